@@ -1,0 +1,40 @@
+#pragma once
+// What every subcommand shares: the global flags, the JSON summary and the
+// progress display. Commands only call libraries and report.
+
+#include <icrkit/core/progress.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <string>
+
+namespace icrkit::app {
+
+struct GlobalOptions {
+  bool quiet = false;  ///< no human-readable messages or progress on stderr
+  bool json = false;   ///< one JSON object on stdout, nothing else there
+  int threads = 0;     ///< 0 = all cores
+};
+
+class CommandContext {
+public:
+  explicit CommandContext(const GlobalOptions& options);
+
+  const GlobalOptions& options() const { return options_; }
+  /// A progress callback (empty when quiet, JSON-only or not a terminal).
+  ProgressCallback progress() { return progress_.callback(); }
+  /// A human-readable note on stderr unless --quiet.
+  void note(const std::string& message) const;
+  /// Milliseconds since the command started.
+  double elapsedMs() const;
+  /// Prints the summary: as JSON with --json, else as "key: value" lines.
+  void emit(const nlohmann::json& summary);
+
+private:
+  GlobalOptions options_;
+  TerminalProgress progress_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace icrkit::app

@@ -1,0 +1,18 @@
+#pragma once
+// Registration of the subcommands. Each returns the callback that runs it
+// once the command line has been parsed.
+
+#include "command_context.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace icrkit::app {
+
+using CommandRunner = std::function<void(CommandContext&)>;
+
+void addInfoCommand(CLI::App& app, CommandRunner& runner);
+void addConvertCommand(CLI::App& app, CommandRunner& runner);
+
+}  // namespace icrkit::app

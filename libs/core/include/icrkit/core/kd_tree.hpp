@@ -1,0 +1,50 @@
+#pragma once
+/// \file
+/// Nearest-neighbour and radius queries over a fixed set of 3D points
+/// (nanoflann underneath). Queries are const and thread-safe.
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace icrkit {
+
+struct Neighbour {
+  std::size_t index;
+  double distance;  ///< Euclidean, metres
+};
+
+class KdTree {
+public:
+  /// Keeps a reference to `points`: they must outlive the tree, unchanged.
+  explicit KdTree(const std::vector<Eigen::Vector3d>& points, std::size_t leaf_size = 10);
+  ~KdTree();
+  KdTree(KdTree&&) noexcept;
+  KdTree& operator=(KdTree&&) noexcept;
+
+  std::size_t size() const;
+
+  /// The k nearest points, nearest first (fewer when the set is smaller).
+  std::vector<Neighbour> nearest(const Eigen::Vector3d& query, std::size_t k) const;
+  /// All points with distance <= radius, nearest first.
+  std::vector<Neighbour> withinRadius(const Eigen::Vector3d& query, double radius) const;
+  /// Number of points with distance <= radius.
+  std::size_t countWithinRadius(const Eigen::Vector3d& query, double radius) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct SpacingStatistics {
+  double mean = 0.0;    ///< mean distance to the nearest other point (m)
+  double median = 0.0;  ///< median of the same
+};
+
+/// Nearest-neighbour spacing of a point set (0 for fewer than two points);
+/// coincident duplicates count with distance 0.
+SpacingStatistics nearestNeighbourSpacing(const std::vector<Eigen::Vector3d>& points);
+
+}  // namespace icrkit

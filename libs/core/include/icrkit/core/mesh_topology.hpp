@@ -1,0 +1,44 @@
+#pragma once
+/// \file
+/// Connectivity of a TriangleMesh: vertex neighbours, edges, components, areas.
+
+#include <icrkit/core/triangle_mesh.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace icrkit {
+
+/// Vertex -> neighbouring vertices (those sharing a triangle edge), in
+/// compressed rows; each row is sorted ascending and has no duplicates.
+struct VertexAdjacency {
+  std::vector<std::size_t> offsets;  ///< size vertexCount + 1
+  std::vector<int> neighbours;
+
+  std::size_t degree(std::size_t v) const { return offsets[v + 1] - offsets[v]; }
+  const int* begin(std::size_t v) const { return neighbours.data() + offsets[v]; }
+  const int* end(std::size_t v) const { return neighbours.data() + offsets[v + 1]; }
+};
+
+VertexAdjacency vertexAdjacency(const TriangleMesh& mesh);
+
+/// Area of every face (m^2); degenerate faces have area 0.
+std::vector<double> faceAreas(const TriangleMesh& mesh);
+double surfaceArea(const TriangleMesh& mesh);
+
+struct EdgeStatistics {
+  std::size_t edges = 0;               ///< distinct undirected edges
+  std::size_t boundary_edges = 0;      ///< used by exactly one face
+  std::size_t non_manifold_edges = 0;  ///< used by three or more faces
+};
+EdgeStatistics edgeStatistics(const TriangleMesh& mesh);
+
+/// Connected components of the faces (two faces touch when they share a vertex).
+struct MeshComponents {
+  std::size_t count = 0;            ///< components that hold at least one face
+  std::vector<int> face_component;  ///< per face, 0..count-1
+  std::size_t unreferenced_vertices = 0;  ///< vertices used by no face
+};
+MeshComponents meshComponents(const TriangleMesh& mesh);
+
+}  // namespace icrkit

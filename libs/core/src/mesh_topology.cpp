@@ -1,0 +1,115 @@
+#include <icrkit/core/mesh_topology.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <utility>
+
+namespace icrkit {
+namespace {
+
+// Each undirected edge as (min, max) once per face that uses it, sorted, so
+// that equal edges are adjacent and their multiplicity is a run length.
+std::vector<std::pair<int, int>> sortedFaceEdges(const TriangleMesh& mesh) {
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(mesh.faces.size() * 3);
+  for (const Triangle& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int a = f[k], b = f[(k + 1) % 3];
+      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  std::sort(edges.begin(), edges.end());
+  return edges;
+}
+
+int findRoot(std::vector<int>& parent, int x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+}  // namespace
+
+VertexAdjacency vertexAdjacency(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.vertexCount();
+  std::vector<std::pair<int, int>> directed;
+  directed.reserve(mesh.faces.size() * 6);
+  for (const Triangle& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) {
+      const int a = f[k], b = f[(k + 1) % 3];
+      if (a == b) continue;
+      directed.emplace_back(a, b);
+      directed.emplace_back(b, a);
+    }
+  std::sort(directed.begin(), directed.end());
+  directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
+
+  VertexAdjacency adjacency;
+  adjacency.offsets.assign(n + 1, 0);
+  for (const auto& e : directed) ++adjacency.offsets[static_cast<std::size_t>(e.first) + 1];
+  std::partial_sum(adjacency.offsets.begin(), adjacency.offsets.end(), adjacency.offsets.begin());
+  adjacency.neighbours.reserve(directed.size());
+  for (const auto& e : directed) adjacency.neighbours.push_back(e.second);
+  return adjacency;
+}
+
+std::vector<double> faceAreas(const TriangleMesh& mesh) {
+  std::vector<double> areas(mesh.faces.size());
+  const auto& p = mesh.vertices.positions;
+  for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+    const Triangle& f = mesh.faces[i];
+    areas[i] = 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).norm();
+  }
+  return areas;
+}
+
+double surfaceArea(const TriangleMesh& mesh) {
+  const std::vector<double> areas = faceAreas(mesh);
+  return std::accumulate(areas.begin(), areas.end(), 0.0);
+}
+
+EdgeStatistics edgeStatistics(const TriangleMesh& mesh) {
+  const auto edges = sortedFaceEdges(mesh);
+  EdgeStatistics stats;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    const std::size_t uses = j - i;
+    ++stats.edges;
+    if (uses == 1) ++stats.boundary_edges;
+    if (uses >= 3) ++stats.non_manifold_edges;
+    i = j;
+  }
+  return stats;
+}
+
+MeshComponents meshComponents(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.vertexCount();
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::uint8_t> used(n, 0);
+  for (const Triangle& f : mesh.faces) {
+    for (int k = 0; k < 3; ++k) used[f[k]] = 1;
+    const int r0 = findRoot(parent, f[0]);
+    for (int k = 1; k < 3; ++k) {
+      const int r = findRoot(parent, f[k]);
+      if (r != r0) parent[r] = r0;
+    }
+  }
+  MeshComponents result;
+  std::vector<int> label(n, -1);
+  result.face_component.resize(mesh.faces.size());
+  // Labels follow the order in which faces first reach a component, which
+  // keeps them stable for a given file.
+  for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+    const int root = findRoot(parent, mesh.faces[i][0]);
+    if (label[root] < 0) label[root] = static_cast<int>(result.count++);
+    result.face_component[i] = label[root];
+  }
+  result.unreferenced_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+  return result;
+}
+
+}  // namespace icrkit

@@ -1,0 +1,130 @@
+#include <icrkit/core/mesh_normals.hpp>
+#include <icrkit/core/mesh_topology.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace icrkit;
+
+namespace {
+
+TriangleMesh tetrahedron() {
+  TriangleMesh m;
+  m.vertices.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  m.faces = {Triangle(0, 2, 1), Triangle(0, 1, 3), Triangle(1, 2, 3), Triangle(0, 3, 2)};  // outward
+  return m;
+}
+
+// An axis-aligned unit cube of 12 triangles, outward winding.
+TriangleMesh cube() {
+  TriangleMesh m;
+  for (int i = 0; i < 8; ++i) m.vertices.positions.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    m.faces.emplace_back(q[0], q[1], q[2]);
+    m.faces.emplace_back(q[0], q[2], q[3]);
+  }
+  return m;
+}
+
+double signedVolume(const TriangleMesh& m) {
+  double v = 0;
+  const auto& p = m.vertices.positions;
+  for (const Triangle& f : m.faces) v += p[f[0]].dot(p[f[1]].cross(p[f[2]])) / 6.0;
+  return v;
+}
+
+}  // namespace
+
+TEST(MeshTopology, AdjacencyOfTwoTriangles) {
+  TriangleMesh m;
+  m.vertices.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {5, 5, 5}};
+  m.faces = {Triangle(0, 1, 2), Triangle(0, 2, 3)};
+  const VertexAdjacency a = vertexAdjacency(m);
+  ASSERT_EQ(a.offsets.size(), 6u);
+  EXPECT_EQ(std::vector<int>(a.begin(0), a.end(0)), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(std::vector<int>(a.begin(1), a.end(1)), (std::vector<int>{0, 2}));
+  EXPECT_EQ(std::vector<int>(a.begin(2), a.end(2)), (std::vector<int>{0, 1, 3}));
+  EXPECT_EQ(a.degree(4), 0u);
+}
+
+TEST(MeshTopology, AreasEdgesAndComponents) {
+  TriangleMesh t = tetrahedron();
+  const auto areas = faceAreas(t);
+  EXPECT_DOUBLE_EQ(areas[0], 0.5);
+  EXPECT_NEAR(areas[2], std::sqrt(3.0) / 2.0, 1e-15);
+  EXPECT_NEAR(surfaceArea(t), 1.5 + std::sqrt(3.0) / 2.0, 1e-15);
+  EdgeStatistics e = edgeStatistics(t);
+  EXPECT_EQ(e.edges, 6u);
+  EXPECT_EQ(e.boundary_edges, 0u);
+  EXPECT_EQ(e.non_manifold_edges, 0u);
+
+  TriangleMesh c = cube();
+  EXPECT_NEAR(surfaceArea(c), 6.0, 1e-14);
+  EXPECT_EQ(edgeStatistics(c).edges, 18u);
+
+  // Two disjoint triangles and a fan of three triangles on one edge.
+  TriangleMesh m;
+  m.vertices.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {9, 9, 9}, {10, 9, 9}, {9, 10, 9}, {3, 3, 3}};
+  m.faces = {Triangle(0, 1, 2), Triangle(1, 0, 3), Triangle(0, 1, 4), Triangle(5, 6, 7)};
+  e = edgeStatistics(m);
+  EXPECT_EQ(e.non_manifold_edges, 1u);
+  EXPECT_EQ(e.boundary_edges, 6u + 3u);
+  const MeshComponents comps = meshComponents(m);
+  EXPECT_EQ(comps.count, 2u);
+  EXPECT_EQ(comps.face_component, (std::vector<int>{0, 0, 0, 1}));
+  EXPECT_EQ(comps.unreferenced_vertices, 1u);
+}
+
+TEST(MeshNormals, RepairsWindingAndTurnsClosedMeshesOutward) {
+  TriangleMesh c = cube();
+  // Flip a few faces and then the whole mesh's orientation.
+  std::swap(c.faces[3][1], c.faces[3][2]);
+  std::swap(c.faces[7][1], c.faces[7][2]);
+  for (Triangle& f : c.faces) std::swap(f[1], f[2]);
+  const OrientationReport report = orientFaces(c);
+  EXPECT_EQ(report.conflicting_edges, 0u);
+  EXPECT_EQ(report.flipped_faces, 10u);
+  EXPECT_NEAR(signedVolume(c), 1.0, 1e-12);
+  EXPECT_EQ(edgeStatistics(c).boundary_edges, 0u);
+
+  computeVertexNormals(c);
+  for (std::size_t v = 0; v < 8; ++v) {
+    const Eigen::Vector3d outward = (c.vertices.positions[v] - Eigen::Vector3d(0.5, 0.5, 0.5)).normalized();
+    EXPECT_NEAR(c.vertices.normals[v].norm(), 1.0, 1e-12);
+    EXPECT_GT(c.vertices.normals[v].dot(outward), 0.9) << v;
+  }
+}
+
+TEST(MeshNormals, OpenPatchFacesAwayFromItsCentroid) {
+  // A bowl (hemisphere patch, pole at z = -1) seen as a partial view: its
+  // outward side is the convex one, away from the sphere centre... the
+  // normals must point away from the patch's centroid, i.e. downwards at the pole.
+  TriangleMesh m;
+  const int rings = 6, segments = 12;
+  m.vertices.positions.emplace_back(0, 0, -1);
+  for (int r = 1; r <= rings; ++r) {
+    const double theta = (M_PI / 2) * r / rings;
+    for (int s = 0; s < segments; ++s) {
+      const double phi = 2 * M_PI * s / segments;
+      m.vertices.positions.emplace_back(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), -std::cos(theta));
+    }
+  }
+  auto id = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
+  for (int s = 0; s < segments; ++s) m.faces.emplace_back(0, id(1, s), id(1, s + 1));  // inward-facing winding
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      m.faces.emplace_back(id(r, s), id(r + 1, s), id(r + 1, s + 1));
+      m.faces.emplace_back(id(r, s), id(r + 1, s + 1), id(r, s + 1));
+    }
+  computeVertexNormals(m);
+  EXPECT_LT(m.vertices.normals[0].z(), -0.99);
+}
+
+TEST(MeshNormals, UnusedVerticesGetZeroNormals) {
+  TriangleMesh t = tetrahedron();
+  t.vertices.positions.emplace_back(7, 7, 7);
+  computeVertexNormals(t);
+  EXPECT_EQ(t.vertices.normals[4], Eigen::Vector3d::Zero());
+}
