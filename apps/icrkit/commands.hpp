@@ -14,5 +14,7 @@ using CommandRunner = std::function<void(CommandContext&)>;
 
 void addInfoCommand(CLI::App& app, CommandRunner& runner);
 void addConvertCommand(CLI::App& app, CommandRunner& runner);
+void addIcrCommand(CLI::App& app, CommandRunner& runner);
+void addGraspsCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   CommandRunner runner;
   addInfoCommand(app, runner);
   addConvertCommand(app, runner);
+  addIcrCommand(app, runner);
+  addGraspsCommand(app, runner);
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,60 @@
+#pragma once
+/// \file
+/// Search zones: for every GWS hull vertex, the intersection of the exterior
+/// half-spaces of its incident facets, each shifted until tangent to the TWS.
+
+#include <icrkit/icr/grasp_wrench_space.hpp>
+#include <icrkit/icr/task_wrench_space.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace icrkit::icr {
+
+struct SearchZone {
+  int hull_vertex = -1;      ///< input wrench index
+  std::vector<int> facets;   ///< indices into SearchZones::normals
+};
+
+struct SearchZones {
+  WrenchSet normals;               ///< outward unit facet normals
+  std::vector<double> thresholds;  ///< a wrench w is beyond facet f when normals.col(f) . w >= thresholds[f]
+  std::vector<std::vector<SearchZone>> by_finger;  ///< the zones each finger owns
+  std::vector<std::vector<int>> finger_facets;     ///< per finger, every facet its zones use (ascending)
+};
+
+/// `wrenches_per_contact` maps wrench index k to finger k / wrenches_per_contact.
+SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpace& tws, std::size_t finger_count,
+                               std::size_t wrenches_per_contact);
+
+/// Tests candidate contacts against the zones. Facet products are computed
+/// on demand and remembered for the current candidate only, so a candidate
+/// that fails its first zone costs a handful of dot products and zones that
+/// share facets share products. Not thread-safe: use one tester per thread.
+class ZoneTester {
+public:
+  explicit ZoneTester(const SearchZones& zones);
+
+  /// True when every zone of `finger` holds at least one column of `wrenches`.
+  bool qualifies(std::size_t finger, const WrenchSet& wrenches);
+
+private:
+  struct FingerFacets {
+    Eigen::Matrix<double, Eigen::Dynamic, 6> normals;  // one row per facet the finger's zones use
+    Eigen::VectorXd thresholds;
+    std::vector<std::vector<int>> zone_rows;           // per zone, rows of `normals`
+    // Neighbouring candidates behave alike: each zone first tries the wrench
+    // that held it last time, and a facet that rejects a wrench moves to the
+    // front of its zone. Only the order of the work changes, never the answer.
+    std::vector<Eigen::Index> last_wrench;
+  };
+  double product(const FingerFacets& local, int row, Eigen::Index wrench, const WrenchSet& wrenches);
+  bool holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches);
+
+  std::vector<FingerFacets> fingers_;
+  std::vector<double> products_;      // row-major facet row x wrench, for the current candidate
+  std::vector<std::uint32_t> stamp_;  // generation at which each product was computed
+  std::uint32_t generation_ = 0;
+};
+
+}  // namespace icrkit::icr

@@ -1,0 +1,167 @@
+#include <icrkit/core/error.hpp>
+#include <icrkit/icr/independent_contact_regions.hpp>
+#include <icrkit/icr/search_zones.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <string>
+
+namespace icrkit::icr {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void checkContacts(const GraspableObject& object, const std::vector<int>& contacts) {
+  auto fail = [](const std::string& detail) { throw InputError("grasp", "", detail); };
+  if (contacts.size() < 2) fail("a grasp needs at least 2 contacts, got " + std::to_string(contacts.size()));
+  const long n = static_cast<long>(object.vertexCount());
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const int c = contacts[i];
+    if (c < 0 || c >= n)
+      fail("contact " + std::to_string(i) + " is vertex " + std::to_string(c) + ", expected 0.." + std::to_string(n - 1));
+    if (object.excluded(static_cast<std::size_t>(c)))
+      fail("contact " + std::to_string(i) + " (vertex " + std::to_string(c) + ") is excluded by preselection");
+    for (std::size_t j = 0; j < i; ++j)
+      if (contacts[j] == c) fail("vertex " + std::to_string(c) + " is used by contacts " + std::to_string(j) + " and " + std::to_string(i));
+  }
+}
+
+// The wrenches of each vertex, computed the first time a finger tests it and
+// kept for the other fingers.
+class LazyVertexWrenches {
+public:
+  LazyVertexWrenches(const GraspableObject& object, const ContactWrenches& generator)
+      : object_(object), generator_(generator), slot_(object.vertexCount(), -1) {}
+
+  const WrenchSet& of(int vertex) {
+    int& slot = slot_[static_cast<std::size_t>(vertex)];
+    if (slot < 0) {
+      slot = static_cast<int>(cache_.size());
+      cache_.push_back(generator_.compute(object_.position(static_cast<std::size_t>(vertex)),
+                                          object_.normal(static_cast<std::size_t>(vertex))));
+    }
+    return cache_[static_cast<std::size_t>(slot)];
+  }
+  std::size_t computed() const { return cache_.size(); }
+
+private:
+  const GraspableObject& object_;
+  const ContactWrenches& generator_;
+  std::vector<int> slot_;
+  std::deque<WrenchSet> cache_;  // a deque: references stay valid as it grows
+};
+
+std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, std::size_t finger,
+                                  LazyVertexWrenches& wrenches, ZoneTester& tester) {
+  const VertexAdjacency& adjacency = object.adjacency();
+  std::vector<std::uint8_t> visited(object.vertexCount(), 0);
+  std::vector<int> region{contact};
+  std::deque<int> queue{contact};
+  visited[static_cast<std::size_t>(contact)] = 1;
+  while (!queue.empty()) {
+    const int v = queue.front();
+    queue.pop_front();
+    for (const int* it = adjacency.begin(static_cast<std::size_t>(v)); it != adjacency.end(static_cast<std::size_t>(v)); ++it) {
+      const int u = *it;
+      if (visited[static_cast<std::size_t>(u)]) continue;
+      visited[static_cast<std::size_t>(u)] = 1;
+      if (object.excluded(static_cast<std::size_t>(u))) continue;
+      if (!tester.qualifies(finger, wrenches.of(u))) continue;
+      region.push_back(u);
+      queue.push_back(u);
+    }
+  }
+  std::sort(region.begin(), region.end());
+  return region;
+}
+
+std::vector<int> testEveryVertex(const GraspableObject& object, int contact, std::size_t finger,
+                                 LazyVertexWrenches& wrenches, ZoneTester& tester) {
+  std::vector<int> region;
+  for (std::size_t v = 0; v < object.vertexCount(); ++v) {
+    if (static_cast<int>(v) == contact) {
+      region.push_back(contact);
+      continue;
+    }
+    if (object.excluded(v)) continue;
+    if (tester.qualifies(finger, wrenches.of(static_cast<int>(v)))) region.push_back(static_cast<int>(v));
+  }
+  return region;
+}
+
+}  // namespace
+
+GraspWrenchSpace graspWrenchSpace(const GraspableObject& object, const std::vector<int>& contacts,
+                                  const ContactModel& model, const HullParameters& hull) {
+  const ContactWrenches generator(model, object.frame());
+  const Eigen::Index per_contact = static_cast<Eigen::Index>(generator.perContact());
+  WrenchSet wrenches(6, per_contact * static_cast<Eigen::Index>(contacts.size()));
+  for (std::size_t i = 0; i < contacts.size(); ++i)
+    generator.compute(object.position(static_cast<std::size_t>(contacts[i])),
+                      object.normal(static_cast<std::size_t>(contacts[i])), wrenches,
+                      per_contact * static_cast<Eigen::Index>(i));
+  return computeGraspWrenchSpace(wrenches, hull);
+}
+
+IcrResult computeIndependentContactRegions(const GraspableObject& object, const std::vector<int>& contacts,
+                                           const IcrParameters& params) {
+  const auto start = Clock::now();
+  checkContacts(object, contacts);
+  if (params.tws_radius <= 0 && !params.tws_wrenches && !(params.alpha > 0 && params.alpha <= 1))
+    throw InputError("task wrench space", "", "alpha must be in (0, 1], got " + std::to_string(params.alpha));
+
+  IcrResult result;
+  result.lambda_m = object.frame().lambda;
+  const ContactWrenches generator(params.contact_model, object.frame());
+
+  auto phase = Clock::now();
+  const GraspWrenchSpace gws = graspWrenchSpace(object, contacts, params.contact_model, params.hull);
+  result.timings.hull_ms = millisecondsSince(phase);
+  if (!gws.force_closure) throw InputError("grasp", "", "the prototype grasp is not force closure: " + gws.reason);
+  result.epsilon = gws.epsilon;
+  result.gws_facets = gws.facetCount();
+
+  phase = Clock::now();
+  const TaskWrenchSpace tws = params.tws_wrenches ? TaskWrenchSpace::polytope(*params.tws_wrenches)
+                              : params.tws_radius > 0 ? TaskWrenchSpace::ball(params.tws_radius)
+                                                      : TaskWrenchSpace::ball(params.alpha * gws.epsilon);
+  tws.requireInside(gws);
+  result.tws_radius = tws.radius();
+  const SearchZones zones = computeSearchZones(gws, tws, contacts.size(), generator.perContact());
+  result.timings.zones_ms = millisecondsSince(phase);
+
+  phase = Clock::now();
+  LazyVertexWrenches wrenches(object, generator);
+  ZoneTester tester(zones);
+  for (std::size_t finger = 0; finger < contacts.size(); ++finger) {
+    ContactRegion region;
+    region.finger = finger;
+    region.contact = contacts[finger];
+    region.vertices = params.mode == GrowthMode::BreadthFirst
+                          ? growBreadthFirst(object, contacts[finger], finger, wrenches, tester)
+                          : testEveryVertex(object, contacts[finger], finger, wrenches, tester);
+    region.area_m2 = regionArea(object.mesh(), region.vertices);
+    result.regions.push_back(std::move(region));
+  }
+  result.vertices_tested = wrenches.computed();
+  result.timings.growth_ms = millisecondsSince(phase);
+  result.timings.total_ms = millisecondsSince(start);
+  return result;
+}
+
+double regionArea(const TriangleMesh& mesh, const std::vector<int>& region) {
+  std::vector<std::uint8_t> member(mesh.vertexCount(), 0);
+  for (int v : region) member[static_cast<std::size_t>(v)] = 1;
+  const auto& p = mesh.vertices.positions;
+  double area = 0.0;
+  for (const Triangle& f : mesh.faces)
+    if (member[f[0]] && member[f[1]] && member[f[2]]) area += 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).norm();
+  return area;
+}
+
+}  // namespace icrkit::icr
