@@ -16,5 +16,6 @@ void addInfoCommand(CLI::App& app, CommandRunner& runner);
 void addConvertCommand(CLI::App& app, CommandRunner& runner);
 void addIcrCommand(CLI::App& app, CommandRunner& runner);
 void addGraspsCommand(CLI::App& app, CommandRunner& runner);
+void addSmoothCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   addConvertCommand(app, runner);
   addIcrCommand(app, runner);
   addGraspsCommand(app, runner);
+  addSmoothCommand(app, runner);
 
   try {
     app.parse(argc, argv);

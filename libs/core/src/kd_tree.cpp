@@ -50,14 +50,17 @@ public:
     if (dist_sq <= radius_sq_) {
       ++count_;
       if (found_) found_->emplace_back(index, dist_sq);
+      if (indices_) indices_->push_back(index);
     }
     return true;
   }
+  void collectIndices(std::vector<std::size_t>* indices) { indices_ = indices; }
 
 private:
   double radius_sq_;
   double bound_;
   std::vector<std::pair<std::size_t, double>>* found_;  // null: only count
+  std::vector<std::size_t>* indices_ = nullptr;
   std::size_t count_ = 0;
 };
 
@@ -71,9 +74,11 @@ struct KdTree::Impl {
       : adaptor{&points}, index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(leaf_size)) {}
 
   std::size_t radiusSearch(const Eigen::Vector3d& query, double radius,
-                           std::vector<std::pair<std::size_t, double>>* found) const {
+                           std::vector<std::pair<std::size_t, double>>* found,
+                           std::vector<std::size_t>* indices = nullptr) const {
     if (!(radius >= 0.0) || adaptor.points->empty()) return 0;  // also rejects NaN
     InclusiveRadiusSet set(radius * radius, found);
+    set.collectIndices(indices);
     index.findNeighbors(set, query.data(), nanoflann::SearchParams());
     return set.size();
   }
@@ -108,6 +113,14 @@ std::vector<Neighbour> KdTree::withinRadius(const Eigen::Vector3d& query, double
   std::vector<Neighbour> result(found.size());
   for (std::size_t i = 0; i < found.size(); ++i) result[i] = {found[i].first, std::sqrt(found[i].second)};
   return result;
+}
+
+void KdTree::indicesWithinRadius(const Eigen::Vector3d& query, double radius, std::vector<std::size_t>& out) const {
+  out.clear();
+  impl_->radiusSearch(query, radius, nullptr, &out);
+  // Ascending index: a canonical order, so sums over the neighbours do not
+  // depend on how the tree happened to be split.
+  std::sort(out.begin(), out.end());
 }
 
 std::size_t KdTree::countWithinRadius(const Eigen::Vector3d& query, double radius) const {

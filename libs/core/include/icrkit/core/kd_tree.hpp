@@ -30,6 +30,10 @@ public:
   std::vector<Neighbour> nearest(const Eigen::Vector3d& query, std::size_t k) const;
   /// All points with distance <= radius, nearest first.
   std::vector<Neighbour> withinRadius(const Eigen::Vector3d& query, double radius) const;
+  /// Indices of all points with distance <= radius, ascending, written into
+  /// `out` (cleared first; its capacity is reused, so a loop that keeps one
+  /// vector per thread does not allocate once the vector is large enough).
+  void indicesWithinRadius(const Eigen::Vector3d& query, double radius, std::vector<std::size_t>& out) const;
   /// Number of points with distance <= radius.
   std::size_t countWithinRadius(const Eigen::Vector3d& query, double radius) const;
 

@@ -1,0 +1,197 @@
+// `icrkit smooth IN -o OUT`: the 3D-NDT smoothing layer and preselection
+// (ndt::smoothPointCloud) on any point cloud or mesh's vertices. Writes OUT
+// with the per-point attributes and the JSON summary next to it.
+
+#include "commands.hpp"
+
+#include <icrkit/core/atomic_file.hpp>
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/file_format.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/ndt/smoothing.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace icrkit::app {
+namespace {
+
+struct SmoothOptions {
+  std::string input;
+  std::string output;
+  std::string radius = "4x";
+  int passes = 1;
+  bool no_preselect = false;
+  std::optional<double> cardinality_threshold;
+  std::optional<double> flatness_threshold;
+  std::string viewpoint;
+};
+
+// Whole-token parsing: "0.004m" or "" are errors, not 0.004 or 0.
+bool parseNumber(const std::string& text, double& value) {
+  std::istringstream in(text);
+  in >> value;
+  if (in.fail() || !std::isfinite(value)) return false;
+  in >> std::ws;
+  return in.eof();
+}
+
+// "0.004" is metres; "4x" is a multiple of the median nearest-neighbour
+// spacing, which only the library knows once the cloud is read.
+void parseRadius(const std::string& text, ndt::SmoothingParameters& params) {
+  const bool relative = !text.empty() && (text.back() == 'x' || text.back() == 'X');
+  double value = 0.0;
+  if (!parseNumber(relative ? text.substr(0, text.size() - 1) : text, value))
+    throw InputError("--radius", "",
+                     "expected metres (e.g. 0.004) or a multiple of the median point spacing (e.g. 4x), got '" +
+                         text + "'");
+  if (!(value > 0))
+    throw InputError("--radius", "", "the window radius must be positive, got '" + text + "'");
+  if (relative) {
+    params.radius = 0.0;
+    params.radius_factor = value;
+  } else {
+    params.radius = value;
+  }
+}
+
+Eigen::Vector3d parseViewpoint(const std::string& text) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  std::string part;
+  while (std::getline(in, part, ',')) parts.push_back(part);
+  if (!text.empty() && text.back() == ',') parts.emplace_back();
+  Eigen::Vector3d p;
+  bool ok = parts.size() == 3;
+  for (std::size_t k = 0; ok && k < 3; ++k) ok = parseNumber(parts[k], p[static_cast<Eigen::Index>(k)]);
+  if (!ok) throw InputError("--viewpoint", "", "expected x,y,z in metres, got '" + text + "'");
+  return p;
+}
+
+void checkThreshold(const char* name, const std::optional<double>& value) {
+  if (value && !(std::isfinite(*value) && *value >= 0)) {
+    std::ostringstream text;
+    text << "expected a finite threshold >= 0, got " << *value;
+    throw InputError(name, "", text.str());
+  }
+}
+
+ndt::SmoothingParameters parameters(const SmoothOptions& options) {
+  ndt::SmoothingParameters params;
+  parseRadius(options.radius, params);
+  // Checked here as well as in the library so that a bad argument fails
+  // before a large file is read.
+  if (options.passes < 1)
+    throw InputError("--passes", "", "at least one pass, got " + std::to_string(options.passes));
+  params.passes = options.passes;
+  params.preselect = !options.no_preselect;
+  checkThreshold("--cardinality-threshold", options.cardinality_threshold);
+  checkThreshold("--flatness-threshold", options.flatness_threshold);
+  params.cardinality_threshold = options.cardinality_threshold;
+  params.flatness_threshold = options.flatness_threshold;
+  if (!options.viewpoint.empty()) params.viewpoint = parseViewpoint(options.viewpoint);
+  return params;
+}
+
+nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
+  const ndt::SmoothingParameters params = parameters(options);
+  io::formatFromPath(options.input);
+  io::formatFromPath(options.output);
+  const std::string summary_path = std::filesystem::path(options.output).replace_extension(".json").string();
+  // Same-named output and summary would overwrite each other; refuse before any work.
+  if (summary_path == options.output)
+    throw InputError(options.output, "", "the output needs an extension other than .json (the summary goes there)");
+
+  const double read_start = context.elapsedMs();
+  PointCloud cloud = io::readPointCloud(options.input);
+  const double read_ms = context.elapsedMs() - read_start;
+
+  ndt::SmoothingSummary s;
+  try {
+    s = ndt::smoothPointCloud(cloud, params, context.progress());
+  } catch (const InputError& error) {
+    // The library names "point cloud"; the user knows the file.
+    if (error.source() != "point cloud") throw;
+    throw InputError(options.input, error.location(), error.detail());
+  }
+
+  const double write_start = context.elapsedMs();
+  io::writePointCloud(options.output, cloud);
+  const double write_ms = context.elapsedMs() - write_start;
+
+  nlohmann::json viewpoint = nullptr;
+  if (params.viewpoint) viewpoint = {params.viewpoint->x(), params.viewpoint->y(), params.viewpoint->z()};
+  nlohmann::json excluded = nullptr;
+  if (params.preselect)
+    excluded = {{"total", s.excluded},
+                {"cardinality_only", s.excluded_cardinality_only},
+                {"flatness_only", s.excluded_flatness_only},
+                {"both", s.excluded_both}};
+  nlohmann::json summary{
+      {"input", options.input},
+      {"output", options.output},
+      {"summary", summary_path},
+      {"points", s.points},
+      {"radius_m", s.radius_m},
+      {"radius_factor", params.radius > 0 ? nlohmann::json(nullptr) : nlohmann::json(params.radius_factor)},
+      // null when --radius was given in metres: the spacing is then not measured
+      {"median_spacing_m", s.median_spacing_m > 0 ? nlohmann::json(s.median_spacing_m) : nlohmann::json(nullptr)},
+      {"passes", s.passes},
+      {"small_windows", s.small_windows},
+      {"mean_cardinality", s.mean_cardinality},
+      {"mean_flatness", s.mean_flatness},
+      {"preselect", params.preselect},
+      {"thresholds",
+       {{"cardinality", s.cardinality_threshold},
+        {"cardinality_source", params.cardinality_threshold ? "given" : "mean"},
+        {"flatness", s.flatness_threshold},
+        {"flatness_source", params.flatness_threshold ? "given" : "mean"}}},
+      {"excluded", excluded},
+      {"mean_displacement_m", s.mean_displacement_m},
+      {"max_displacement_m", s.max_displacement_m},
+      {"viewpoint", viewpoint},
+      {"time_ms", {{"read", read_ms}, {"smooth", s.time_ms}, {"write", write_ms}, {"total", context.elapsedMs()}}}};
+  const std::string text = summary.dump() + "\n";
+  writeFileAtomically(summary_path, [&text](std::ostream& out) { out << text; }, false);
+  return summary;
+}
+
+}  // namespace
+
+void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
+  auto* command = app.add_subcommand(
+      "smooth",
+      "3D-NDT smoothing layer and preselection (Krug et al., Alg. 1): each point is projected onto the plane of "
+      "the two dominant eigenvectors of its spherical window. Writes OUT (any format; .ply keeps the vertex "
+      "properties cardinality, flatness, displacement, excluded and the normals nx, ny, nz) and the JSON summary "
+      "next to it (OUT with .json)");
+  auto options = std::make_shared<SmoothOptions>();
+  command->add_option("input", options->input, "Point cloud or mesh (.ply, .obj, .pcd, .xyz); meshes give their vertices")
+      ->required();
+  command->add_option("-o,--output", options->output, "Output cloud, written atomically (.ply recommended)")
+      ->required();
+  command
+      ->add_option("--radius", options->radius,
+                   "Window radius: metres (0.004) or a multiple of the median nearest-neighbour spacing (4x)")
+      ->capture_default_str();
+  command->add_option("--passes", options->passes, "Smoothing passes k, each from the previous pass's output")
+      ->capture_default_str();
+  command->add_flag("--no-preselect", options->no_preselect, "Do not mark points as excluded");
+  command->add_option("--cardinality-threshold", options->cardinality_threshold,
+                      "Exclude points whose window holds fewer points (default: the mean cardinality)");
+  command->add_option("--flatness-threshold", options->flatness_threshold,
+                      "Exclude points whose flatness sqrt(l2/l3) is lower (default: the mean flatness)");
+  command->add_option("--viewpoint", options->viewpoint,
+                      "Sensor position x,y,z (metres): normals point towards it (default: outwards from the "
+                      "centroid, made consistent over neighbours)");
+  command->callback([&runner, options] {
+    runner = [options](CommandContext& context) { context.emit(smooth(*options, context)); };
+  });
+}
+
+}  // namespace icrkit::app

@@ -1,0 +1,81 @@
+#pragma once
+/// \file
+/// The 3D-NDT smoothing layer (Algorithm 1 of Krug et al.) and point
+/// preselection (Section III-B.2).
+///
+/// Per point p_s: the spherical window W_s of radius r (points within r,
+/// p_s included), its mean mu_s and covariance Sigma_s, eigenvalues
+/// l1 >= l2 >= l3 with vectors v1..v3, and the projection onto the plane of
+/// the two dominant vectors: p_s' = p_s + v3 (mu_s - p_s)^T v3. Windows are
+/// taken from the input positions of the pass (Jacobi style), so the result
+/// does not depend on point order or thread count.
+///
+/// Preselection: cardinality |W_s| and flatness F = sqrt(l2 / l3); a point is
+/// excluded when its cardinality or its flatness is below the threshold (by
+/// default the mean over all points).
+
+#include <icrkit/core/point_cloud.hpp>
+#include <icrkit/core/progress.hpp>
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <optional>
+
+namespace icrkit::ndt {
+
+struct SmoothingParameters {
+  /// Window radius r in metres; when <= 0, `radius_factor` times the median
+  /// nearest-neighbour spacing of the input.
+  double radius = 0.0;
+  double radius_factor = 4.0;
+  /// k passes; each recomputes the windows from the previous pass's output.
+  /// Preselection uses the statistics of the first pass (the measured data).
+  int passes = 1;
+  bool preselect = true;
+  /// Explicit thresholds; unset = the mean over all points.
+  std::optional<double> cardinality_threshold;
+  std::optional<double> flatness_threshold;
+  /// Normals (v3) point towards this sensor position when given, else
+  /// outwards from the centroid, made consistent over the neighbour graph.
+  std::optional<Eigen::Vector3d> viewpoint;
+  /// l3 is floored at this fraction of l2, capping the flatness at
+  /// 1 / sqrt(floor) = 100. Real sensor noise stays far from the cap (a 4 mm
+  /// window would need a noise thickness below 0.02 mm); exactly coplanar
+  /// windows (three points, quantised depth) would otherwise get flatness
+  /// ~1e6 and drag the mean threshold above every other point.
+  double flatness_floor = 1e-4;
+};
+
+struct SmoothingSummary {
+  std::size_t points = 0;
+  double radius_m = 0.0;
+  double median_spacing_m = 0.0;  ///< 0 when the radius was given in metres (not measured)
+  int passes = 0;
+  std::size_t small_windows = 0;  ///< windows with fewer than 3 points: left unchanged
+  double mean_cardinality = 0.0;
+  double mean_flatness = 0.0;
+  double cardinality_threshold = 0.0;
+  double flatness_threshold = 0.0;
+  std::size_t excluded = 0;
+  std::size_t excluded_cardinality_only = 0;
+  std::size_t excluded_flatness_only = 0;
+  std::size_t excluded_both = 0;
+  double mean_displacement_m = 0.0;
+  double max_displacement_m = 0.0;
+  double time_ms = 0.0;
+};
+
+/// Smooths `cloud` in place and adds the per-point attributes `cardinality`
+/// (int), `flatness` (float), `displacement` (float, metres, total over the
+/// passes), `excluded` (uchar, when preselecting) and replaces the normals
+/// by the v3 estimates of the last pass. Throws InputError for an empty
+/// cloud, a non-finite coordinate (naming the point), r <= 0 or passes < 1.
+SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params = {},
+                                  const ProgressCallback& progress = {});
+
+/// Flatness sqrt(l2 / max(l3, floor * l2)); 0 when l2 = 0 (the window is a
+/// point or a line: not a surface).
+double flatness(const Eigen::Vector3d& eigenvalues, double floor = 1e-4);
+
+}  // namespace icrkit::ndt

@@ -1,0 +1,168 @@
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/kd_tree.hpp>
+#include <icrkit/ndt/normal_orientation.hpp>
+#include <icrkit/ndt/smoothing.hpp>
+#include <icrkit/ndt/symmetric_eigen3.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace icrkit::ndt {
+
+double flatness(const Eigen::Vector3d& eigenvalues, double floor) {
+  const double l2 = eigenvalues(1);
+  if (!(l2 > 0)) return 0.0;
+  const double l3 = std::max(eigenvalues(2), floor * l2);
+  return std::sqrt(l2 / l3);
+}
+
+namespace {
+
+void validate(const PointCloud& cloud, const SmoothingParameters& params) {
+  if (cloud.empty()) throw InputError("point cloud", "", "the cloud is empty; nothing to smooth");
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (!cloud.positions[i].allFinite())
+      throw InputError("point cloud", "point " + std::to_string(i), "non-finite coordinate, expected finite x, y, z");
+  if (params.radius < 0 || !std::isfinite(params.radius))
+    throw InputError("--radius", "", "the window radius must be positive, got " + std::to_string(params.radius));
+  if (params.radius == 0 && !(params.radius_factor > 0 && std::isfinite(params.radius_factor)))
+    throw InputError("--radius", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
+  if (params.passes < 1) throw InputError("--passes", "", "at least one pass, got " + std::to_string(params.passes));
+}
+
+struct PassOutput {
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Vector3d> normals;
+  std::vector<int> cardinality;
+  std::vector<double> flatness;
+};
+
+// One Jacobi pass: every window is taken from `input`.
+PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radius, double flatness_floor,
+                         const ProgressCallback& progress, const std::string& stage) {
+  const std::size_t n = input.size();
+  const KdTree tree(input);
+  PassOutput out;
+  out.positions.resize(n);
+  out.normals.assign(n, Eigen::Vector3d::Zero());
+  out.cardinality.resize(n);
+  out.flatness.assign(n, 0.0);
+  std::atomic<std::size_t> done{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<std::size_t> window;  // one buffer per task, reused for every point
+    window.reserve(256);
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Eigen::Vector3d& p = input[i];
+      tree.indicesWithinRadius(p, radius, window);
+      const std::size_t count = window.size();
+      out.cardinality[i] = static_cast<int>(count);
+      if (count < 3) {
+        out.positions[i] = p;
+        continue;
+      }
+      // Mean and covariance about the query point (shifted data keeps the
+      // sums small and exact-ish), in index order.
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+      for (std::size_t j : window) {
+        const Eigen::Vector3d d = input[j] - p;
+        sum += d;
+        outer.noalias() += d * d.transpose();
+      }
+      const double inv = 1.0 / static_cast<double>(count);
+      const Eigen::Vector3d mean_offset = sum * inv;
+      const Eigen::Matrix3d covariance = outer * inv - mean_offset * mean_offset.transpose();
+      const SymmetricEigen3 eigen = eigenSymmetric3(covariance);
+      const Eigen::Vector3d v3 = eigen.vectors.col(2);
+      out.positions[i] = p + v3 * mean_offset.dot(v3);  // eq. (1): mu - p = mean_offset
+      out.normals[i] = v3;
+      out.flatness[i] = flatness(eigen.values, flatness_floor);
+    }
+    if (progress) progress(stage, done.fetch_add(range.size()) + range.size(), n);
+  });
+  return out;
+}
+
+}  // namespace
+
+SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params, const ProgressCallback& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  validate(cloud, params);
+  SmoothingSummary summary;
+  const std::size_t n = cloud.size();
+  summary.points = n;
+  summary.passes = params.passes;
+  // The spacing costs a k-NN query per point; only a relative radius needs it.
+  if (!(params.radius > 0)) summary.median_spacing_m = nearestNeighbourSpacing(cloud.positions).median;
+  summary.radius_m = params.radius > 0 ? params.radius : params.radius_factor * summary.median_spacing_m;
+  if (!(summary.radius_m > 0))
+    throw InputError("--radius", "", "the median point spacing is 0 (duplicated points); give the radius in metres");
+
+  const std::vector<Eigen::Vector3d> original = cloud.positions;
+  std::vector<int> cardinality;
+  std::vector<double> flat;
+  std::vector<Eigen::Vector3d> normals;
+  for (int pass = 0; pass < params.passes; ++pass) {
+    PassOutput out = smoothingPass(cloud.positions, summary.radius_m, params.flatness_floor, progress,
+                                   "smoothing pass " + std::to_string(pass + 1) + "/" + std::to_string(params.passes));
+    if (pass == 0) {
+      cardinality = std::move(out.cardinality);
+      flat = std::move(out.flatness);
+    }
+    cloud.positions = std::move(out.positions);
+    normals = std::move(out.normals);
+  }
+  cloud.normals = std::move(normals);
+  orientNormals(cloud, params.viewpoint);
+
+  // Serial sums in index order: the same bits whatever the thread count.
+  double cardinality_sum = 0, flatness_sum = 0, displacement_sum = 0;
+  std::vector<double> displacement(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    cardinality_sum += cardinality[i];
+    flatness_sum += flat[i];
+    displacement[i] = (cloud.positions[i] - original[i]).norm();
+    displacement_sum += displacement[i];
+    summary.max_displacement_m = std::max(summary.max_displacement_m, displacement[i]);
+    if (cardinality[i] < 3) ++summary.small_windows;
+  }
+  summary.mean_cardinality = cardinality_sum / static_cast<double>(n);
+  summary.mean_flatness = flatness_sum / static_cast<double>(n);
+  summary.mean_displacement_m = displacement_sum / static_cast<double>(n);
+  summary.cardinality_threshold = params.cardinality_threshold.value_or(summary.mean_cardinality);
+  summary.flatness_threshold = params.flatness_threshold.value_or(summary.mean_flatness);
+
+  auto& card_attr = cloud.attributes.add("cardinality", ScalarType::Int32, n);
+  auto& flat_attr = cloud.attributes.add("flatness", ScalarType::Float32, n);
+  auto& disp_attr = cloud.attributes.add("displacement", ScalarType::Float32, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    card_attr.values[i] = cardinality[i];
+    flat_attr.values[i] = flat[i];
+    disp_attr.values[i] = displacement[i];
+  }
+  if (params.preselect) {
+    auto& excluded = cloud.attributes.add("excluded", ScalarType::UInt8, n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool sparse = cardinality[i] < summary.cardinality_threshold;
+      const bool rough = flat[i] < summary.flatness_threshold;
+      excluded.values[i] = (sparse || rough) ? 1.0 : 0.0;
+      if (sparse && rough)
+        ++summary.excluded_both;
+      else if (sparse)
+        ++summary.excluded_cardinality_only;
+      else if (rough)
+        ++summary.excluded_flatness_only;
+    }
+    summary.excluded = summary.excluded_both + summary.excluded_cardinality_only + summary.excluded_flatness_only;
+  }
+  summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace icrkit::ndt

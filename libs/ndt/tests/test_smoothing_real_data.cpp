@@ -1,0 +1,227 @@
+// The smoothing layer on real range data: a Stanford bunny scan measured
+// against the zippered reference mesh, and two PCL sensor views. Every test
+// skips (with the missing path) when the shared data is absent.
+
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/kd_tree.hpp>
+#include <icrkit/ndt/smoothing.hpp>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace icrkit::ndt {
+namespace {
+
+std::string sharedData(const std::string& relative) { return std::string(ICRKIT_SHARED_DATA_DIR) + "/" + relative; }
+
+#define REQUIRE_SHARED_FILE(path)                                                                 \
+  do {                                                                                            \
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared test data not found: " << (path); \
+  } while (0)
+
+// Distance from p to the closed triangle (a, b, c): to the plane when the
+// foot of the perpendicular falls inside, else to the nearest side.
+double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+double pointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double area2 = n.squaredNorm();
+  if (area2 > 0) {
+    // Barycentric coordinates of the foot via the signed sub-triangle areas.
+    const Eigen::Vector3d foot = p - n * ((p - a).dot(n) / area2);
+    const double u = (c - b).cross(foot - b).dot(n);
+    const double v = (a - c).cross(foot - c).dot(n);
+    const double w = (b - a).cross(foot - a).dot(n);
+    if (u >= 0 && v >= 0 && w >= 0) return (p - foot).norm();
+  }
+  return std::min({pointSegmentDistance(p, a, b), pointSegmentDistance(p, b, c), pointSegmentDistance(p, c, a)});
+}
+
+// Distance to a mesh surface: the exact distance to every face incident to
+// the k nearest vertices. On a mesh whose triangles are not much larger than
+// the query distances (bun_zipper: ~1 mm edges, errors of a few tenths) the
+// nearest face almost always touches one of them, and when it does not the
+// answer is an upper bound off by a fraction of an edge length.
+class MeshDistance {
+public:
+  explicit MeshDistance(const TriangleMesh& mesh) : mesh_(mesh), tree_(mesh_.vertices.positions) {
+    incident_.resize(mesh_.vertexCount());
+    for (std::size_t f = 0; f < mesh_.faceCount(); ++f)
+      for (int k = 0; k < 3; ++k) incident_[static_cast<std::size_t>(mesh_.faces[f](k))].push_back(f);
+  }
+
+  double operator()(const Eigen::Vector3d& p, std::size_t k = 8) const {
+    double best = std::numeric_limits<double>::infinity();
+    const auto& v = mesh_.vertices.positions;
+    for (const Neighbour& nb : tree_.nearest(p, k)) {
+      best = std::min(best, nb.distance);  // a vertex with no face still counts
+      for (std::size_t f : incident_[nb.index]) {
+        const Triangle& t = mesh_.faces[f];
+        best = std::min(best, pointTriangleDistance(p, v[static_cast<std::size_t>(t(0))], v[static_cast<std::size_t>(t(1))],
+                                                    v[static_cast<std::size_t>(t(2))]));
+      }
+    }
+    return best;
+  }
+
+  double nearestVertex(const Eigen::Vector3d& p) const { return tree_.nearest(p, 1).front().distance; }
+
+private:
+  TriangleMesh mesh_;
+  KdTree tree_;  // refers to mesh_'s positions, declared after it
+  std::vector<std::vector<std::size_t>> incident_;
+};
+
+TEST(MeshDistanceHelper, KnownAnswersOnATriangle) {
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_DOUBLE_EQ(pointTriangleDistance(Eigen::Vector3d(0.2, 0.2, 0.5), a, b, c), 0.5);   // above the inside
+  EXPECT_DOUBLE_EQ(pointTriangleDistance(Eigen::Vector3d(0.5, -1.0, 0.0), a, b, c), 1.0);  // beside edge ab
+  EXPECT_DOUBLE_EQ(pointTriangleDistance(Eigen::Vector3d(-3, -4, 0), a, b, c), 5.0);       // beyond vertex a
+  EXPECT_NEAR(pointTriangleDistance(Eigen::Vector3d(1, 1, 0), a, b, c), std::sqrt(0.5), 1e-15);  // beyond edge bc
+}
+
+struct Pose {
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  // The data README's convention: a scan point p maps to R(q)^T p + t.
+  Eigen::Vector3d apply(const Eigen::Vector3d& p) const { return q.toRotationMatrix().transpose() * p + t; }
+};
+
+std::optional<Pose> bunConfPose(const std::string& conf, const std::string& scan) {
+  std::ifstream in(conf);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string kind, file;
+    Pose pose;
+    double qx, qy, qz, qw;
+    if (words >> kind >> file >> pose.t.x() >> pose.t.y() >> pose.t.z() >> qx >> qy >> qz >> qw && kind == "bmesh" &&
+        file == scan) {
+      pose.q = Eigen::Quaterniond(qw, qx, qy, qz).normalized();
+      return pose;
+    }
+  }
+  return std::nullopt;
+}
+
+double meanDistance(const MeshDistance& distance, const std::vector<Eigen::Vector3d>& points, bool to_vertices = false) {
+  double sum = 0;
+  for (const Eigen::Vector3d& p : points) sum += to_vertices ? distance.nearestVertex(p) : distance(p);
+  return sum / static_cast<double>(points.size());
+}
+
+TEST(SmoothingRealData, BunnyScanWithAddedNoiseMovesCloserToTheReferenceMesh) {
+  const std::string scan_path = sharedData("stanford-bunny/bun000.ply");
+  const std::string mesh_path = sharedData("stanford-bunny/bun_zipper.ply");
+  const std::string conf_path = sharedData("stanford-bunny/bun.conf");
+  REQUIRE_SHARED_FILE(scan_path);
+  REQUIRE_SHARED_FILE(mesh_path);
+  REQUIRE_SHARED_FILE(conf_path);
+
+  const std::optional<Pose> pose = bunConfPose(conf_path, "bun000.ply");
+  ASSERT_TRUE(pose) << "no bmesh line for bun000.ply in " << conf_path;
+  PointCloud scan = io::readPointCloud(scan_path);
+  for (Eigen::Vector3d& p : scan.positions) p = pose->apply(p);
+  const MeshDistance distance(io::readTriangleMesh(mesh_path));
+
+  // Noise of sigma 0.5 mm, each point along its own random direction (a
+  // normalised 3D Gaussian is uniform on the sphere).
+  const double sigma = 0.0005;
+  std::mt19937_64 rng(4242);
+  std::normal_distribution<double> gauss;
+  PointCloud noisy = scan;
+  for (Eigen::Vector3d& p : noisy.positions) {
+    const Eigen::Vector3d direction = Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
+    p += sigma * gauss(rng) * direction;
+  }
+  PointCloud smoothed = noisy;
+  SmoothingParameters params;
+  params.radius_factor = 4.0;
+  const SmoothingSummary summary = smoothPointCloud(smoothed, params);
+
+  const double raw = meanDistance(distance, scan.positions);
+  const double before = meanDistance(distance, noisy.positions);
+  const double after = meanDistance(distance, smoothed.positions);
+  const double before_vertex = meanDistance(distance, noisy.positions, true);
+  const double after_vertex = meanDistance(distance, smoothed.positions, true);
+  ::testing::Test::RecordProperty("scan_mm", std::to_string(raw * 1e3));
+  ::testing::Test::RecordProperty("noisy_mm", std::to_string(before * 1e3));
+  ::testing::Test::RecordProperty("smoothed_mm", std::to_string(after * 1e3));
+  std::printf("[ bun000 ] %zu points, spacing %.3f mm, r = %.3f mm, excluded %.1f %%; mean distance to bun_zipper "
+              "surface: scan %.4f, noisy %.4f, smoothed %.4f mm (to the nearest vertex: noisy %.4f, smoothed %.4f mm)\n",
+              summary.points, summary.median_spacing_m * 1e3, summary.radius_m * 1e3,
+              100.0 * static_cast<double>(summary.excluded) / static_cast<double>(summary.points), raw * 1e3, before * 1e3,
+              after * 1e3, before_vertex * 1e3, after_vertex * 1e3);
+
+  // The added noise must be visible over the scan's own registration error,
+  // or the comparison below says nothing.
+  ASSERT_GT(before, raw + 0.1e-3);
+  EXPECT_LT(after, before) << "smoothing moved the noisy scan away from the reference surface";
+  // Most of the added noise goes: the smoothed scan is much nearer to the raw
+  // scan's own distance than to the noisy one.
+  EXPECT_LT(after - raw, 0.5 * (before - raw));
+  // The same sanity as for the PCL views: preselection keeps a part of a
+  // real scan.
+  EXPECT_LT(static_cast<double>(summary.excluded), 0.95 * static_cast<double>(summary.points))
+      << "mean flatness " << summary.mean_flatness << ", mean cardinality " << summary.mean_cardinality;
+}
+
+void checkPclView(const std::string& file, double max_excluded = 0.95) {
+  const std::string path = sharedData("pcl-views/" + file);
+  REQUIRE_SHARED_FILE(path);
+  PointCloud cloud = io::readPointCloud(path);
+  ASSERT_GT(cloud.size(), 1000u);
+  SmoothingParameters params;
+  params.viewpoint = Eigen::Vector3d::Zero();  // both files: VIEWPOINT 0 0 0, the camera at the origin
+  const SmoothingSummary summary = smoothPointCloud(cloud, params);
+  const double excluded = static_cast<double>(summary.excluded) / static_cast<double>(summary.points);
+  std::size_t towards = 0, unit = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (std::abs(cloud.normals[i].norm() - 1.0) < 1e-9) ++unit;
+    if (cloud.normals[i].dot(-cloud.positions[i]) >= 0) ++towards;
+  }
+  std::printf("[ %s ] %zu points, spacing %.3f mm, r = %.3f mm, mean cardinality %.1f, mean flatness %.2f, "
+              "excluded %.1f %% (cardinality only %zu, flatness only %zu, both %zu), small windows %zu, "
+              "mean displacement %.3f mm, %.0f ms\n",
+              file.c_str(), summary.points, summary.median_spacing_m * 1e3, summary.radius_m * 1e3,
+              summary.mean_cardinality, summary.mean_flatness, 100 * excluded, summary.excluded_cardinality_only,
+              summary.excluded_flatness_only, summary.excluded_both, summary.small_windows,
+              summary.mean_displacement_m * 1e3, summary.time_ms);
+  EXPECT_GT(excluded, 0.05);
+  EXPECT_LT(excluded, max_excluded);
+  EXPECT_GT(summary.mean_cardinality, 3.0);
+  EXPECT_GT(summary.radius_m, 0.0);
+  EXPECT_LT(summary.mean_displacement_m, summary.radius_m) << "a projection onto the window plane moves less than r";
+  EXPECT_EQ(unit + summary.small_windows, cloud.size()) << "every smoothed point has a unit normal";
+  EXPECT_EQ(towards, cloud.size()) << "normals face the camera";
+}
+
+TEST(SmoothingRealData, PclMilkCartonView) { checkPclView("milk.pcd"); }
+
+// A whole stereo scene: a large, flat table with quantised depth next to
+// sparse far points. Its flatness is heavy-tailed (mean 18 while most points
+// are below 5), so the paper's mean thresholds keep only a few dozen points;
+// scenes want explicit thresholds (docs/smoothing.md). The check here is that
+// the run is sane, not that the rule suits a scene.
+TEST(SmoothingRealData, PclTableSceneStereoView) { checkPclView("table_scene_mug_stereo_textured.pcd", 1.0); }
+
+}  // namespace
+}  // namespace icrkit::ndt
