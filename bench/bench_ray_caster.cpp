@@ -3,6 +3,7 @@
 // and single-threaded. items_per_second is the figure to read.
 
 #include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/mesh_primitives.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
 #include <benchmark/benchmark.h>
@@ -28,38 +29,8 @@ using icrkit::RayCaster;
 using icrkit::TriangleMesh;
 
 // A sphere of 20 * 4^levels faces: the stand-in when the bunny is absent,
-// of similar size at 6 levels (82k faces).
-TriangleMesh icosphere(int levels) {
-  TriangleMesh mesh;
-  auto& p = mesh.vertices.positions;
-  const double g = (1.0 + std::sqrt(5.0)) / 2.0;
-  for (const auto& v : {Eigen::Vector3d(-1, g, 0), Eigen::Vector3d(1, g, 0), Eigen::Vector3d(-1, -g, 0),
-                        Eigen::Vector3d(1, -g, 0), Eigen::Vector3d(0, -1, g), Eigen::Vector3d(0, 1, g),
-                        Eigen::Vector3d(0, -1, -g), Eigen::Vector3d(0, 1, -g), Eigen::Vector3d(g, 0, -1),
-                        Eigen::Vector3d(g, 0, 1), Eigen::Vector3d(-g, 0, -1), Eigen::Vector3d(-g, 0, 1)})
-    p.push_back(v.normalized());
-  mesh.faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<int, int>, int> midpoints;  // shared edges get one new vertex
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto found = midpoints.find(key);
-      if (found != midpoints.end()) return found->second;
-      p.push_back((p[a] + p[b]).normalized());
-      return midpoints[key] = static_cast<int>(p.size()) - 1;
-    };
-    std::vector<icrkit::Triangle> finer;
-    for (const auto& f : mesh.faces) {
-      const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-      finer.insert(finer.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
-    }
-    mesh.faces = std::move(finer);
-  }
-  for (auto& v : p) v *= 0.1;  // bunny-sized, metres
-  return mesh;
-}
+// of similar size at 6 levels (82k faces), bunny-sized in metres.
+TriangleMesh icosphere(int levels) { return icrkit::makeIcosphere(levels, 0.1); }
 
 struct Scene {
   TriangleMesh mesh;

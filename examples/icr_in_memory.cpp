@@ -2,6 +2,7 @@
 // give it vertex normals, sample a force-closure grasp and grow its regions.
 // Exits non-zero when a result is not what an ICR must be.
 
+#include <icrkit/core/mesh_primitives.hpp>
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
 #include <icrkit/icr/grasp_sampling.hpp>
@@ -17,41 +18,9 @@
 
 namespace {
 
-// An icosahedron whose faces are split in four `levels` times, with every
-// vertex pushed onto the sphere: near-uniform vertices, unlike a UV sphere
-// whose poles would crowd the grasp sampling.
-icrkit::TriangleMesh icosphere(double radius, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Eigen::Vector3d> points{{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                                      {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<icrkit::Triangle> faces{{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                      {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                      {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                      {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    // Each edge is split once, whichever of its two faces gets there first.
-    std::map<std::pair<int, int>, int> midpoints;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto found = midpoints.find(key);
-      if (found != midpoints.end()) return found->second;
-      points.push_back((points[static_cast<std::size_t>(a)] + points[static_cast<std::size_t>(b)]) / 2.0);
-      const int index = static_cast<int>(points.size()) - 1;
-      midpoints.emplace(key, index);
-      return index;
-    };
-    std::vector<icrkit::Triangle> finer;
-    for (const icrkit::Triangle& f : faces) {
-      const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-      finer.insert(finer.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
-    }
-    faces = std::move(finer);
-  }
-  icrkit::TriangleMesh mesh;
-  for (const Eigen::Vector3d& p : points) mesh.vertices.positions.push_back(radius * p.normalized());
-  mesh.faces = std::move(faces);
-  return mesh;
-}
+// A geodesic sphere (near-uniform vertices, unlike a UV sphere whose poles
+// would crowd the grasp sampling), built in memory by icrkit::core.
+icrkit::TriangleMesh icosphere(double radius, int levels) { return icrkit::makeIcosphere(levels, radius); }
 
 int check(bool ok, const char* what) {
   if (!ok) std::fprintf(stderr, "icr_in_memory: FAILED: %s\n", what);

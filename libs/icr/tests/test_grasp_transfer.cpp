@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <icrkit/core/mesh_primitives.hpp>
+
 #include <map>
 #include <random>
 #include <string>
@@ -18,38 +20,7 @@ namespace icrkit::icr {
 namespace {
 
 // A geodesic sphere of radius r with exact outward normals.
-TriangleMesh unitSphereMesh(int levels, double r) {
-  TriangleMesh mesh;
-  auto& p = mesh.vertices.positions;
-  const double g = (1.0 + std::sqrt(5.0)) / 2.0;
-  for (const auto& v : {Eigen::Vector3d(-1, g, 0), Eigen::Vector3d(1, g, 0), Eigen::Vector3d(-1, -g, 0),
-                        Eigen::Vector3d(1, -g, 0), Eigen::Vector3d(0, -1, g), Eigen::Vector3d(0, 1, g),
-                        Eigen::Vector3d(0, -1, -g), Eigen::Vector3d(0, 1, -g), Eigen::Vector3d(g, 0, -1),
-                        Eigen::Vector3d(g, 0, 1), Eigen::Vector3d(-g, 0, -1), Eigen::Vector3d(-g, 0, 1)})
-    p.push_back(v.normalized());
-  mesh.faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<int, int>, int> midpoints;
-    auto midpoint = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto found = midpoints.find(key);
-      if (found != midpoints.end()) return found->second;
-      p.push_back((p[a] + p[b]).normalized());
-      return midpoints[key] = static_cast<int>(p.size()) - 1;
-    };
-    std::vector<Triangle> finer;
-    for (const auto& f : mesh.faces) {
-      const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
-      finer.insert(finer.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
-    }
-    mesh.faces = std::move(finer);
-  }
-  mesh.vertices.normals = p;
-  for (auto& v : p) v *= r;
-  return mesh;
-}
+TriangleMesh unitSphereMesh(int levels, double r) { return makeIcosphere(levels, r); }
 
 // A point set only (the mapping needs no faces).
 TriangleMesh pointsMesh(std::vector<Eigen::Vector3d> points) {
