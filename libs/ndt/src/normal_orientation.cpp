@@ -54,6 +54,10 @@ std::size_t orientNormals(PointCloud& cloud, const std::optional<Eigen::Vector3d
       return confidence < o.confidence || (confidence == o.confidence && node > o.node);
     }
   };
+  // best[m]: the highest confidence with which m has been offered; a weaker
+  // offer can never win, so it is not pushed (Prim's eager variant: same
+  // tree, a much smaller heap).
+  std::vector<double> best(n, -1.0);
   auto visit = [&](std::size_t seed) {
     std::priority_queue<Candidate> heap;
     heap.push({2.0, seed, seed});
@@ -68,7 +72,12 @@ std::size_t orientNormals(PointCloud& cloud, const std::optional<Eigen::Vector3d
       }
       for (std::size_t s = 0; s < k; ++s) {
         const std::size_t m = graph[c.node * k + s];
-        if (m < n && !done[m]) heap.push({std::abs(normals[c.node].dot(normals[m])), m, c.node});
+        if (m >= n || done[m]) continue;
+        const double confidence = std::abs(normals[c.node].dot(normals[m]));
+        if (confidence > best[m]) {
+          best[m] = confidence;
+          heap.push({confidence, m, c.node});
+        }
       }
     }
   };
