@@ -61,7 +61,7 @@ private:
 
 }  // namespace
 
-GraspWrenchSpace computeGraspWrenchSpace(const WrenchSet& wrenches, const HullParameters& params) {
+static GraspWrenchSpace buildHull(const WrenchSet& wrenches, const std::string& options, double threshold, bool& qhull_failed) {
   GraspWrenchSpace gws;
   gws.normals.resize(6, 0);
   const int count = static_cast<int>(wrenches.cols());
@@ -74,13 +74,15 @@ GraspWrenchSpace computeGraspWrenchSpace(const WrenchSet& wrenches, const HullPa
     return gws;
   }
   std::vector<coordT> points(wrenches.data(), wrenches.data() + wrenches.size());
-  std::string command = "qhull " + params.qhull_options;
+  std::string command = "qhull " + options;
+  gws.qhull_options = options;
 
   MessageStream messages;
   QhullRun run(messages.file());
   qhT* qh = run.get();
   const int exit_code = qh_new_qhull(qh, 6, count, points.data(), False, command.data(), nullptr, messages.file());
   if (exit_code != 0) {
+    qhull_failed = true;
     std::string why = messages.firstLine();
     gws.reason = "no full-dimensional hull (qhull: " + (why.empty() ? "error " + std::to_string(exit_code) : why) + ")";
     return gws;
@@ -110,9 +112,19 @@ GraspWrenchSpace computeGraspWrenchSpace(const WrenchSet& wrenches, const HullPa
   std::sort(gws.hull_vertices.begin(), gws.hull_vertices.end());
 
   gws.epsilon = epsilon;
-  gws.force_closure = epsilon > params.force_closure_threshold;
+  gws.force_closure = epsilon > threshold;
   if (!gws.force_closure)
     gws.reason = "the origin is not strictly inside the grasp wrench space (epsilon = " + std::to_string(epsilon) + ")";
+  return gws;
+}
+
+GraspWrenchSpace computeGraspWrenchSpace(const WrenchSet& wrenches, const HullParameters& params) {
+  bool qhull_failed = false;
+  GraspWrenchSpace gws = buildHull(wrenches, params.qhull_options, params.force_closure_threshold, qhull_failed);
+  if (qhull_failed && !params.fallback_options.empty() && params.fallback_options != params.qhull_options) {
+    qhull_failed = false;
+    gws = buildHull(wrenches, params.fallback_options, params.force_closure_threshold, qhull_failed);
+  }
   return gws;
 }
 

@@ -181,3 +181,27 @@ TEST(SearchZones, EachHullVertexOwnsItsIncidentFacets) {
   EXPECT_FALSE(tester.qualifies(0, WrenchSet::Zero(6, 2)));
   EXPECT_FALSE(tester.qualifies(1, near_vertex));
 }
+
+TEST(GraspWrenchSpace, OptionalFastHullGivesTheSameEpsilon) {
+  HullParameters fast;
+  fast.qhull_options = "Q0";
+  fast.fallback_options = "Qt Qx";
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g;
+  for (int trial = 0; trial < 20; ++trial) {
+    WrenchSet w(6, 36);
+    for (Eigen::Index i = 0; i < w.size(); ++i) w.data()[i] = g(rng);
+    const GraspWrenchSpace merged = computeGraspWrenchSpace(w);
+    const GraspWrenchSpace unmerged = computeGraspWrenchSpace(w, fast);
+    EXPECT_EQ(merged.qhull_options, "Qt Qx");
+    EXPECT_EQ(unmerged.qhull_options, "Q0");
+    EXPECT_EQ(merged.force_closure, unmerged.force_closure);
+    EXPECT_NEAR(merged.epsilon, unmerged.epsilon, 1e-12);
+    EXPECT_EQ(merged.hull_vertices, unmerged.hull_vertices);
+  }
+  // A degenerate set fails both attempts and reports the last one.
+  WrenchSet flat = crossPolytope().leftCols(10);
+  const GraspWrenchSpace none = computeGraspWrenchSpace(flat, fast);
+  EXPECT_FALSE(none.force_closure);
+  EXPECT_EQ(none.qhull_options, "Qt Qx");
+}

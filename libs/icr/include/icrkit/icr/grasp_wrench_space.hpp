@@ -12,9 +12,16 @@
 namespace icrkit::icr {
 
 struct HullParameters {
-  /// qhull options; "Qt Qx" (triangulated output, exact pre-merges) is the
-  /// reference library's choice and gives its facet counts.
+  /// qhull options. "Qt Qx" (triangulated output, exact pre-merges) is the
+  /// reference library's choice: merged hulls have fewer facets per search
+  /// zone, which keeps region growth fast. "Q0" (no pre-merging) builds the
+  /// hull in about 60 % of the time and gives the same regions on all
+  /// reference grasps, but its extra facets slow the growth of large regions
+  /// (docs/performance.md); pair it with fallback_options = "Qt Qx".
   std::string qhull_options = "Qt Qx";
+  /// Options of a second attempt when qhull stops with the first ones (it can
+  /// give up on nearly degenerate input without merging). Empty: no retry.
+  std::string fallback_options;
   /// The origin must be at least this far inside every facet for force closure.
   double force_closure_threshold = 1e-10;
 };
@@ -32,6 +39,7 @@ struct GraspWrenchSpace {
   std::vector<double> offsets;
   std::vector<std::vector<int>> facet_vertices;  ///< input wrench indices per facet
   std::vector<int> hull_vertices;                ///< input wrench indices that are hull vertices, ascending
+  std::string qhull_options;                     ///< the options of the attempt that built this hull
 
   std::size_t facetCount() const { return offsets.size(); }
 };
