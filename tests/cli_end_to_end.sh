@@ -3,21 +3,7 @@
 # error messages and atomic writes. Needs $ICRKIT (the binary); uses the
 # shared real data when $ICRKIT_SHARED_DATA_DIR holds it.
 set -uo pipefail
-here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-root="$(dirname "$here")"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-json_field() { /usr/bin/python3 -c "import json,sys; d=json.load(sys.stdin); print(d$1)"; }
-
-expect_exit() {  # expect_exit CODE CMD...
-  local want="$1"; shift
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "'$*' exited $got, expected $want; stderr: $(cat "$work/err")"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/cli_common.sh"
 
 # --help everywhere
 for cmd in "" info convert; do

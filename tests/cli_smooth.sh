@@ -6,28 +6,7 @@
 # present. Needs $ICRKIT (the binary); exits 77 (skipped) after the
 # self-contained checks when none of the shared scans is there.
 set -uo pipefail
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-failures=0
-
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-py() { /usr/bin/python3 -c "$@"; }
-
-expect_exit() {  # expect_exit CODE CMD...
-  local want="$1"; shift
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "'$*' exited $got, expected $want; stderr: $(cat "$work/err")"
-}
-
-# expect_input_error PATTERN CMD...: exit 2, one line on stderr matching PATTERN, nothing on stdout
-expect_input_error() {
-  local pattern="$1"; shift
-  expect_exit 2 "$@"
-  [ "$(wc -l <"$work/err")" -eq 1 ] || fail "'$*': error is not one line: $(cat "$work/err")"
-  grep -q -- "$pattern" "$work/err" || fail "'$*': error lacks '$pattern': $(cat "$work/err")"
-  [ ! -s "$work/out" ] || fail "'$*': printed on stdout despite failing"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/cli_common.sh"
 
 # A binary little-endian PLY's vertex properties as {name: (ply type, [values])};
 # icrkit writes binary PLY by default, so this reads what it writes.

@@ -1,5 +1,9 @@
 #include "command_context.hpp"
 
+#include <icrkit/core/atomic_file.hpp>
+
+#include <filesystem>
+
 #include <iostream>
 
 namespace icrkit::app {
@@ -35,6 +39,15 @@ void CommandContext::emit(const nlohmann::json& summary) {
   else
     printHuman(summary, "");
   std::cout.flush();
+}
+
+std::string summaryPathFor(const std::string& output) {
+  return std::filesystem::path(output).replace_extension(".json").string();
+}
+
+void writeSummaryFile(const std::string& path, const nlohmann::json& summary) {
+  const std::string text = summary.dump() + "\n";
+  writeFileAtomically(path, [&text](std::ostream& out) { out << text; }, false);
 }
 
 }  // namespace icrkit::app

@@ -37,4 +37,9 @@ private:
   std::chrono::steady_clock::time_point start_;
 };
 
+/// Where a command's JSON summary goes: `output` with the extension .json.
+std::string summaryPathFor(const std::string& output);
+/// Writes `summary` (one line of JSON) atomically to `path`.
+void writeSummaryFile(const std::string& path, const nlohmann::json& summary);
+
 }  // namespace icrkit::app

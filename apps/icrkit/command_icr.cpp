@@ -5,7 +5,6 @@
 #include "commands.hpp"
 #include "contact_model_options.hpp"
 
-#include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/icr/graspable_object.hpp>
@@ -177,7 +176,7 @@ void run(const IcrOptions& options, CommandContext& context) {
     throw namingMesh(path, error);
   }
 
-  const std::string summary_path = std::filesystem::path(options.output).replace_extension(".json").string();
+  const std::string summary_path = summaryPathFor(options.output);
   nlohmann::json regions = nlohmann::json::array();
   for (const icr::ContactRegion& region : result.regions)
     regions.push_back({{"finger", region.finger},
@@ -212,8 +211,7 @@ void run(const IcrOptions& options, CommandContext& context) {
                         {"total", context.elapsedMs()}};
 
   io::writeTriangleMesh(options.output, regionMesh(input.mesh, result));
-  const std::string text = summary.dump() + "\n";
-  writeFileAtomically(summary_path, [&text](std::ostream& out) { out << text; }, false);
+  writeSummaryFile(summary_path, summary);
 
   if (context.options().json)
     context.emit(summary);

@@ -4,14 +4,12 @@
 
 #include "commands.hpp"
 
-#include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/file_format.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/ndt/smoothing.hpp>
 
 #include <cmath>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -102,7 +100,7 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
   const ndt::SmoothingParameters params = parameters(options);
   io::formatFromPath(options.input);
   io::formatFromPath(options.output);
-  const std::string summary_path = std::filesystem::path(options.output).replace_extension(".json").string();
+  const std::string summary_path = summaryPathFor(options.output);
   // Same-named output and summary would overwrite each other; refuse before any work.
   if (summary_path == options.output)
     throw InputError(options.output, "", "the output needs an extension other than .json (the summary goes there)");
@@ -156,8 +154,7 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
       {"max_displacement_m", s.max_displacement_m},
       {"viewpoint", viewpoint},
       {"time_ms", {{"read", read_ms}, {"smooth", s.time_ms}, {"write", write_ms}, {"total", context.elapsedMs()}}}};
-  const std::string text = summary.dump() + "\n";
-  writeFileAtomically(summary_path, [&text](std::ostream& out) { out << text; }, false);
+  writeSummaryFile(summary_path, summary);
   return summary;
 }
 
