@@ -7,7 +7,7 @@ trap 'rm -rf "$work"' EXIT
 failures=0
 
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-py() { /usr/bin/python3 -c "$@"; }
+py() { PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -c "$@"; }
 json_field() { py "import json,sys; d=json.load(sys.stdin); print(d$1)"; }
 
 expect_exit() {  # expect_exit CODE CMD...

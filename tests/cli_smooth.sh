@@ -8,41 +8,15 @@
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/cli_common.sh"
 
-# A binary little-endian PLY's vertex properties as {name: (ply type, [values])};
-# icrkit writes binary PLY by default, so this reads what it writes.
-cat >"$work/ply.py" <<'EOF'
-import struct
-
-TYPES = {'char': 'b', 'uchar': 'B', 'short': 'h', 'ushort': 'H', 'int': 'i', 'uint': 'I', 'float': 'f', 'double': 'd'}
-
-def vertex_properties(path):
-    data = open(path, 'rb').read()
-    end = data.index(b'end_header\n') + len(b'end_header\n')
-    header = data[:end].decode('ascii').splitlines()
-    assert 'format binary_little_endian 1.0' in header, header[:3]
-    count, props, in_vertex = 0, [], False
-    for line in header:
-        words = line.split()
-        if words[0] == 'element':
-            in_vertex = words[1] == 'vertex'
-            if in_vertex:
-                count = int(words[2])
-        elif words[0] == 'property' and in_vertex:
-            props.append((words[2], words[1]))
-    row = struct.Struct('<' + ''.join(TYPES[t] for _, t in props))
-    columns = list(zip(*row.iter_unpack(data[end:end + count * row.size]))) if count else [() for _ in props]
-    return {name: (t, list(col)) for (name, t), col in zip(props, columns)}
-EOF
-
 # check_summary JSON OUTPUT_PLY POINTS: the summary's fields, the file next to
 # the output, and the output's properties agreeing with the summary.
 check_summary() {
   local json="$1" ply="$2" points="$3"
   [ "$(wc -l <"$json")" -eq 1 ] || fail "smooth --json printed more than one line: $(head -c 300 "$json")"
   cmp -s "$json" "${ply%.*}.json" || fail "${ply%.*}.json differs from the --json summary"
-  PYTHONPATH="$work" py "
+  PYTHONPATH="$here" py "
 import json, math, sys
-from ply import vertex_properties
+from plyfile import vertex_properties
 d = json.load(open('$json'))
 for key in ('points', 'radius_m', 'median_spacing_m', 'passes', 'small_windows', 'mean_cardinality',
             'mean_flatness', 'thresholds', 'excluded', 'mean_displacement_m', 'max_displacement_m', 'time_ms'):
@@ -97,9 +71,9 @@ plane="$work/plane.xyz"
 "$ICRKIT" smooth "$plane" -o "$work/plane.ply" --viewpoint 0.06,0.06,1 --json >"$work/plane.json" 2>"$work/err" ||
   fail "smooth on $plane failed: $(cat "$work/err")"
 check_summary "$work/plane.json" "$work/plane.ply" 3600
-PYTHONPATH="$work" py "
+PYTHONPATH="$here" py "
 import json
-from ply import vertex_properties
+from plyfile import vertex_properties
 d = json.load(open('$work/plane.json'))
 # default radius: 4 x the median spacing (2 mm); preselection on with mean thresholds
 assert abs(d['median_spacing_m'] - 0.002) < 1e-4, d['median_spacing_m']

@@ -2,6 +2,7 @@
 // Regions of one prototype grasp, as a coloured PLY with a `region` vertex
 // attribute and a JSON summary next to it.
 
+#include "argument_parsing.hpp"
 #include "commands.hpp"
 #include "contact_model_options.hpp"
 
@@ -47,24 +48,6 @@ constexpr std::array<Color, 9> kPalette{{{31, 119, 180},
                                          {188, 189, 34},
                                          {23, 190, 207}}};
 constexpr Color kNoRegion{190, 190, 190};
-
-std::vector<std::string> split(const std::string& text, char separator) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  std::string part;
-  while (std::getline(in, part, separator)) parts.push_back(part);
-  if (!text.empty() && text.back() == separator) parts.emplace_back();
-  return parts;
-}
-
-// Whole-token number parsing: "12x" or "" are errors, not 12 or 0.
-bool parseNumber(const std::string& text, double& value) {
-  std::istringstream in(text);
-  in >> value;
-  if (in.fail() || !std::isfinite(value)) return false;
-  in >> std::ws;
-  return in.eof();
-}
 
 std::vector<int> parseContactIndices(const std::string& text) {
   std::vector<int> contacts;

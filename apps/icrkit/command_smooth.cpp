@@ -2,6 +2,7 @@
 // (ndt::smoothPointCloud) on any point cloud or mesh's vertices. Writes OUT
 // with the per-point attributes and the JSON summary next to it.
 
+#include "argument_parsing.hpp"
 #include "commands.hpp"
 
 #include <icrkit/core/error.hpp>
@@ -30,47 +31,6 @@ struct SmoothOptions {
   std::string viewpoint;
 };
 
-// Whole-token parsing: "0.004m" or "" are errors, not 0.004 or 0.
-bool parseNumber(const std::string& text, double& value) {
-  std::istringstream in(text);
-  in >> value;
-  if (in.fail() || !std::isfinite(value)) return false;
-  in >> std::ws;
-  return in.eof();
-}
-
-// "0.004" is metres; "4x" is a multiple of the median nearest-neighbour
-// spacing, which only the library knows once the cloud is read.
-void parseRadius(const std::string& text, ndt::SmoothingParameters& params) {
-  const bool relative = !text.empty() && (text.back() == 'x' || text.back() == 'X');
-  double value = 0.0;
-  if (!parseNumber(relative ? text.substr(0, text.size() - 1) : text, value))
-    throw InputError("--radius", "",
-                     "expected metres (e.g. 0.004) or a multiple of the median point spacing (e.g. 4x), got '" +
-                         text + "'");
-  if (!(value > 0))
-    throw InputError("--radius", "", "the window radius must be positive, got '" + text + "'");
-  if (relative) {
-    params.radius = 0.0;
-    params.radius_factor = value;
-  } else {
-    params.radius = value;
-  }
-}
-
-Eigen::Vector3d parseViewpoint(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  std::string part;
-  while (std::getline(in, part, ',')) parts.push_back(part);
-  if (!text.empty() && text.back() == ',') parts.emplace_back();
-  Eigen::Vector3d p;
-  bool ok = parts.size() == 3;
-  for (std::size_t k = 0; ok && k < 3; ++k) ok = parseNumber(parts[k], p[static_cast<Eigen::Index>(k)]);
-  if (!ok) throw InputError("--viewpoint", "", "expected x,y,z in metres, got '" + text + "'");
-  return p;
-}
-
 void checkThreshold(const char* name, const std::optional<double>& value) {
   if (value && !(std::isfinite(*value) && *value >= 0)) {
     std::ostringstream text;
@@ -81,7 +41,9 @@ void checkThreshold(const char* name, const std::optional<double>& value) {
 
 ndt::SmoothingParameters parameters(const SmoothOptions& options) {
   ndt::SmoothingParameters params;
-  parseRadius(options.radius, params);
+  const Length radius = parseLength("--radius", options.radius);
+  params.radius = radius.relative ? 0.0 : radius.value;
+  if (radius.relative) params.radius_factor = radius.value;
   // Checked here as well as in the library so that a bad argument fails
   // before a large file is read.
   if (options.passes < 1)
@@ -92,7 +54,7 @@ ndt::SmoothingParameters parameters(const SmoothOptions& options) {
   checkThreshold("--flatness-threshold", options.flatness_threshold);
   params.cardinality_threshold = options.cardinality_threshold;
   params.flatness_threshold = options.flatness_threshold;
-  if (!options.viewpoint.empty()) params.viewpoint = parseViewpoint(options.viewpoint);
+  if (!options.viewpoint.empty()) params.viewpoint = parsePoint("--viewpoint", options.viewpoint);
   return params;
 }
 

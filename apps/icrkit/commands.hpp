@@ -17,5 +17,6 @@ void addConvertCommand(CLI::App& app, CommandRunner& runner);
 void addIcrCommand(CLI::App& app, CommandRunner& runner);
 void addGraspsCommand(CLI::App& app, CommandRunner& runner);
 void addSmoothCommand(CLI::App& app, CommandRunner& runner);
+void addMeshCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   addIcrCommand(app, runner);
   addGraspsCommand(app, runner);
   addSmoothCommand(app, runner);
+  addMeshCommand(app, runner);
 
   try {
     app.parse(argc, argv);

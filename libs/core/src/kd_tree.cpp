@@ -127,13 +127,11 @@ std::size_t KdTree::countWithinRadius(const Eigen::Vector3d& query, double radiu
   return impl_->radiusSearch(query, radius, nullptr);
 }
 
-SpacingStatistics nearestNeighbourSpacing(const std::vector<Eigen::Vector3d>& points) {
-  SpacingStatistics stats;
+std::vector<double> nearestNeighbourDistances(const std::vector<Eigen::Vector3d>& points) {
   const std::size_t n = points.size();
-  if (n < 2) return stats;
-
+  std::vector<double> spacing(n, std::numeric_limits<double>::infinity());
+  if (n < 2) return spacing;
   const KdTree tree(points);
-  std::vector<double> spacing(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       // Two neighbours suffice: the point itself is one of them unless
@@ -144,7 +142,13 @@ SpacingStatistics nearestNeighbourSpacing(const std::vector<Eigen::Vector3d>& po
       spacing[i] = best;
     }
   });
+  return spacing;
+}
 
+SpacingStatistics spacingStatistics(std::vector<double> spacing) {
+  SpacingStatistics stats;
+  const std::size_t n = spacing.size();
+  if (n < 2) return stats;
   // Summed serially in index order: the same bits whatever the thread count.
   double sum = 0.0;
   for (double d : spacing) sum += d;
@@ -160,6 +164,10 @@ SpacingStatistics nearestNeighbourSpacing(const std::vector<Eigen::Vector3d>& po
     stats.median = 0.5 * (lower + upper);
   }
   return stats;
+}
+
+SpacingStatistics nearestNeighbourSpacing(const std::vector<Eigen::Vector3d>& points) {
+  return spacingStatistics(nearestNeighbourDistances(points));
 }
 
 }  // namespace icrkit

@@ -8,15 +8,25 @@
 namespace icrkit {
 namespace {
 
-// Each undirected edge as (min, max) once per face that uses it, sorted, so
-// that equal edges are adjacent and their multiplicity is a run length.
-std::vector<std::pair<int, int>> sortedFaceEdges(const TriangleMesh& mesh) {
-  std::vector<std::pair<int, int>> edges;
+// One face's use of an undirected edge (a < b); `forward` when the face runs
+// it from a to b.
+struct FaceEdge {
+  int a, b;
+  bool forward;
+  bool operator<(const FaceEdge& o) const {
+    return a != o.a ? a < o.a : b != o.b ? b < o.b : forward < o.forward;
+  }
+};
+
+// Each undirected edge once per face that uses it, sorted, so that equal
+// edges are adjacent and their multiplicity is a run length.
+std::vector<FaceEdge> sortedFaceEdges(const TriangleMesh& mesh) {
+  std::vector<FaceEdge> edges;
   edges.reserve(mesh.faces.size() * 3);
   for (const Triangle& f : mesh.faces)
     for (int k = 0; k < 3; ++k) {
       const int a = f[k], b = f[(k + 1) % 3];
-      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+      if (a != b) edges.push_back({std::min(a, b), std::max(a, b), a < b});
     }
   std::sort(edges.begin(), edges.end());
   return edges;
@@ -75,14 +85,62 @@ EdgeStatistics edgeStatistics(const TriangleMesh& mesh) {
   EdgeStatistics stats;
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
     const std::size_t uses = j - i;
     ++stats.edges;
     if (uses == 1) ++stats.boundary_edges;
+    if (uses == 2 && edges[i].forward == edges[i + 1].forward) ++stats.misoriented_edges;
     if (uses >= 3) ++stats.non_manifold_edges;
     i = j;
   }
   return stats;
+}
+
+std::vector<std::vector<int>> traceBoundaryLoops(std::vector<std::pair<int, int>> half_edges) {
+  std::sort(half_edges.begin(), half_edges.end());
+  std::vector<std::uint8_t> taken(half_edges.size(), 0);
+  auto takeFrom = [&](int v) -> long {
+    auto it = std::lower_bound(half_edges.begin(), half_edges.end(), std::make_pair(v, -1));
+    for (; it != half_edges.end() && it->first == v; ++it) {
+      const auto k = static_cast<std::size_t>(it - half_edges.begin());
+      if (!taken[k]) {
+        taken[k] = 1;
+        return static_cast<long>(k);
+      }
+    }
+    return -1;
+  };
+  std::vector<std::vector<int>> loops;
+  for (std::size_t start = 0; start < half_edges.size(); ++start) {
+    if (taken[start]) continue;
+    taken[start] = 1;
+    std::vector<int> loop{half_edges[start].first};
+    int v = half_edges[start].second;
+    while (v != half_edges[start].first) {
+      loop.push_back(v);
+      const long next = takeFrom(v);
+      if (next < 0) break;
+      v = half_edges[static_cast<std::size_t>(next)].second;
+    }
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+std::vector<std::vector<int>> boundaryLoops(const TriangleMesh& mesh) {
+  const auto edges = sortedFaceEdges(mesh);
+  // Boundary half-edges in the direction their face runs them, grouped by
+  // start vertex so that a loop can be followed head to tail.
+  std::vector<std::pair<int, int>> half_edges;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
+    if (j - i == 1)
+      half_edges.push_back(edges[i].forward ? std::make_pair(edges[i].a, edges[i].b)
+                                            : std::make_pair(edges[i].b, edges[i].a));
+    i = j;
+  }
+  return traceBoundaryLoops(std::move(half_edges));
 }
 
 MeshComponents meshComponents(const TriangleMesh& mesh) {

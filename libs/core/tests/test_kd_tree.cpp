@@ -185,3 +185,23 @@ TEST(NearestNeighbourSpacing, MatchesBruteForceOnRandomPoints) {
 
 }  // namespace
 }  // namespace icrkit
+
+namespace icrkit {
+namespace {
+
+TEST(KdTree, NearestNeighbourDistancesPerPoint) {
+  const std::vector<Eigen::Vector3d> points{{0, 0, 0}, {0.5, 0, 0}, {2, 0, 0}, {2, 0, 0}};
+  const std::vector<double> d = nearestNeighbourDistances(points);
+  ASSERT_EQ(d.size(), 4u);
+  EXPECT_DOUBLE_EQ(d[0], 0.5);
+  EXPECT_DOUBLE_EQ(d[1], 0.5);
+  EXPECT_DOUBLE_EQ(d[2], 0.0);  // duplicates
+  EXPECT_DOUBLE_EQ(d[3], 0.0);
+  const SpacingStatistics s = spacingStatistics(d);
+  EXPECT_DOUBLE_EQ(s.mean, 0.25);
+  EXPECT_DOUBLE_EQ(s.median, 0.25);
+  EXPECT_TRUE(std::isinf(nearestNeighbourDistances({{1, 2, 3}})[0]));
+}
+
+}  // namespace
+}  // namespace icrkit

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace icrkit;
@@ -128,3 +129,63 @@ TEST(MeshNormals, UnusedVerticesGetZeroNormals) {
   computeVertexNormals(t);
   EXPECT_EQ(t.vertices.normals[4], Eigen::Vector3d::Zero());
 }
+
+namespace icrkit {
+namespace {
+
+// A 3 x 3 grid of unit squares (16 vertices, 18 faces) with the middle
+// square removed: an outer boundary of 12 edges and a hole of 4.
+TriangleMesh gridWithHole() {
+  TriangleMesh m;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) m.vertices.positions.emplace_back(x, y, 0);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) {
+      if (x == 1 && y == 1) continue;
+      const int a = y * 4 + x, b = a + 1, c = a + 5, d = a + 4;
+      m.faces.emplace_back(a, b, c);
+      m.faces.emplace_back(a, c, d);
+    }
+  return m;
+}
+
+TEST(MeshTopology, BoundaryLoopsFollowTheWinding) {
+  const TriangleMesh m = gridWithHole();
+  auto loops = boundaryLoops(m);
+  ASSERT_EQ(loops.size(), 2u);
+  std::sort(loops.begin(), loops.end(), [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  EXPECT_EQ(loops[0].size(), 4u);
+  EXPECT_EQ(loops[1].size(), 12u);
+  // The outer loop runs counter-clockwise like the faces (seen from +z);
+  // the hole's loop runs clockwise.
+  auto signedArea = [&](const std::vector<int>& loop) {
+    double a = 0;
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const auto& p = m.vertices.positions[loop[k]];
+      const auto& q = m.vertices.positions[loop[(k + 1) % loop.size()]];
+      a += p.x() * q.y() - q.x() * p.y();
+    }
+    return 0.5 * a;
+  };
+  EXPECT_DOUBLE_EQ(signedArea(loops[1]), 9.0);
+  EXPECT_DOUBLE_EQ(signedArea(loops[0]), -1.0);
+  EXPECT_EQ(edgeStatistics(m).boundary_edges, 16u);
+  EXPECT_EQ(edgeStatistics(m).misoriented_edges, 0u);
+}
+
+TEST(MeshTopology, MisorientedEdgesAndClosedMeshes) {
+  TriangleMesh m = gridWithHole();
+  std::swap(m.faces[0][1], m.faces[0][2]);  // one face wound the other way
+  // Its diagonal and its edge to the next square now run the same way as
+  // their other faces; its third edge is on the boundary.
+  EXPECT_EQ(edgeStatistics(m).misoriented_edges, 2u);
+  TriangleMesh tetra;
+  tetra.vertices.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tetra.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  EXPECT_TRUE(boundaryLoops(tetra).empty());
+  EXPECT_EQ(edgeStatistics(tetra).misoriented_edges, 0u);
+  EXPECT_TRUE(traceBoundaryLoops({}).empty());
+}
+
+}  // namespace
+}  // namespace icrkit

@@ -51,4 +51,10 @@ struct SpacingStatistics {
 /// coincident duplicates count with distance 0.
 SpacingStatistics nearestNeighbourSpacing(const std::vector<Eigen::Vector3d>& points);
 
+/// Each point's distance to the nearest other point (0 for a duplicate,
+/// infinity for a lone point), computed in parallel.
+std::vector<double> nearestNeighbourDistances(const std::vector<Eigen::Vector3d>& points);
+/// Mean and median of such distances (0 for fewer than two).
+SpacingStatistics spacingStatistics(std::vector<double> distances);
+
 }  // namespace icrkit

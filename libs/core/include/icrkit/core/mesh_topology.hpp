@@ -5,6 +5,7 @@
 #include <icrkit/core/triangle_mesh.hpp>
 
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace icrkit {
@@ -30,8 +31,20 @@ struct EdgeStatistics {
   std::size_t edges = 0;               ///< distinct undirected edges
   std::size_t boundary_edges = 0;      ///< used by exactly one face
   std::size_t non_manifold_edges = 0;  ///< used by three or more faces
+  /// Edges used by exactly two faces that both traverse it the same way
+  /// (0 for a consistently oriented mesh).
+  std::size_t misoriented_edges = 0;
 };
 EdgeStatistics edgeStatistics(const TriangleMesh& mesh);
+
+/// Closed chains of boundary edges (edges used by one face), each as its
+/// vertex sequence in the winding of the faces it borders. A vertex where
+/// several holes touch appears in each of their loops. In a mesh that is not
+/// consistently oriented a chain may stop short; it still counts as a loop.
+std::vector<std::vector<int>> boundaryLoops(const TriangleMesh& mesh);
+/// The same from the boundary half-edges (from, to) alone, for code that
+/// already knows them.
+std::vector<std::vector<int>> traceBoundaryLoops(std::vector<std::pair<int, int>> half_edges);
 
 /// Connected components of the faces (two faces touch when they share a vertex).
 struct MeshComponents {

@@ -1,0 +1,33 @@
+#pragma once
+// Parsing of the option values several commands share: whole-token numbers,
+// comma lists, x,y,z points and lengths given in metres or as a multiple of
+// the median point spacing ("4x"). Errors are InputErrors naming the option.
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace icrkit::app {
+
+/// Splits at every separator; "a,,b" and "a," keep their empty items.
+std::vector<std::string> split(const std::string& text, char separator);
+
+/// Whole-token number parsing: "12x", "" or "nan" fail instead of giving 12 or 0.
+bool parseNumber(const std::string& text, double& value);
+
+/// "x,y,z" in metres.
+Eigen::Vector3d parsePoint(const std::string& option, const std::string& text);
+
+/// A length: metres ("0.004") or, with a trailing x, a multiple of the
+/// median nearest-neighbour spacing ("4x"). Must be > 0.
+struct Length {
+  double value = 0.0;
+  bool relative = false;  ///< value is a multiple of the median spacing
+};
+Length parseLength(const std::string& option, const std::string& text);
+
+/// A comma list of lengths, all in metres or all relative.
+std::vector<Length> parseLengths(const std::string& option, const std::string& text);
+
+}  // namespace icrkit::app

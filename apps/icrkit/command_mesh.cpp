@@ -1,0 +1,152 @@
+// `icrkit mesh IN -o OUT`: ball pivoting (reconstruction::ballPivoting) of
+// an oriented point cloud. Points without normals get estimated ones
+// (ndt::estimateNormals). Writes the mesh, whose vertices are exactly the
+// input points, and the JSON summary next to it.
+
+#include "argument_parsing.hpp"
+#include "commands.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/file_format.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/ndt/normal_estimation.hpp>
+#include <icrkit/reconstruction/ball_pivoting.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace icrkit::app {
+namespace {
+
+struct MeshOptions {
+  std::string input;
+  std::string output;
+  std::string radii;
+  bool estimate_normals = false;
+  std::string normal_radius = "3x";
+  std::string viewpoint;
+};
+
+// Library errors name "point cloud"; the user knows the file.
+template <typename F>
+auto namingInput(const std::string& input, F&& work) {
+  try {
+    return work();
+  } catch (const InputError& error) {
+    if (error.source() != "point cloud") throw;
+    throw InputError(input, error.location(), error.detail());
+  }
+}
+
+nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
+  // Arguments are checked before a large file is read.
+  reconstruction::BallPivotingParameters params;
+  if (!options.radii.empty()) {
+    const std::vector<Length> radii = parseLengths("--radii", options.radii);
+    std::vector<double>& target = radii.front().relative ? params.radius_factors : params.radii;
+    target.clear();
+    for (const Length& r : radii) target.push_back(r.value);
+  }
+  ndt::NormalEstimationParameters normal_params;
+  const Length normal_radius = parseLength("--normal-radius", options.normal_radius);
+  normal_params.radius = normal_radius.relative ? 0.0 : normal_radius.value;
+  if (normal_radius.relative) normal_params.radius_factor = normal_radius.value;
+  if (!options.viewpoint.empty()) normal_params.viewpoint = parsePoint("--viewpoint", options.viewpoint);
+  io::formatFromPath(options.input);
+  io::formatFromPath(options.output);
+  const std::string summary_path = summaryPathFor(options.output);
+  if (summary_path == options.output)
+    throw InputError(options.output, "", "the output needs an extension other than .json (the summary goes there)");
+
+  const double read_start = context.elapsedMs();
+  PointCloud cloud = io::readPointCloud(options.input);
+  const double read_ms = context.elapsedMs() - read_start;
+
+  std::string normals_source = "input";
+  double normals_ms = 0.0;
+  if (options.estimate_normals || !cloud.hasNormals()) {
+    if (!options.estimate_normals)
+      context.note(options.input + " has no normals: estimating them (see --normal-radius, --viewpoint)");
+    const double start = context.elapsedMs();
+    namingInput(options.input, [&] { return ndt::estimateNormals(cloud, normal_params); });
+    normals_ms = context.elapsedMs() - start;
+    normals_source = "estimated";
+  }
+
+  const double mesh_start = context.elapsedMs();
+  const reconstruction::BallPivotingResult result =
+      namingInput(options.input, [&] { return reconstruction::ballPivoting(cloud, params); });
+  const double mesh_ms = context.elapsedMs() - mesh_start;
+
+  const double write_start = context.elapsedMs();
+  io::writeTriangleMesh(options.output, result.mesh);
+  const double write_ms = context.elapsedMs() - write_start;
+
+  const reconstruction::BallPivotingReport& r = result.report;
+  nlohmann::json passes = nlohmann::json::array();
+  std::vector<double> radii_m;
+  for (const auto& pass : r.passes) {
+    passes.push_back({{"radius_m", pass.radius}, {"seeds", pass.seeds}, {"triangles", pass.triangles}});
+    radii_m.push_back(pass.radius);
+  }
+  nlohmann::json summary{{"input", options.input},
+                         {"output", options.output},
+                         {"summary", summary_path},
+                         {"normals", normals_source},
+                         {"points", r.points},
+                         {"median_spacing_m", r.median_spacing},
+                         {"radii_m", radii_m},
+                         {"passes", passes},
+                         {"triangles", r.triangles},
+                         {"used_points", r.used_points},
+                         {"unused_points", r.unused_points},
+                         {"duplicate_points", r.duplicate_points},
+                         {"boundary_edges", r.boundary_edges},
+                         {"closed_holes", r.closed_holes},
+                         {"boundary_loops", r.boundary_loops},
+                         {"non_manifold_edges", r.non_manifold_edges},
+                         {"components", r.components},
+                         {"euler_characteristic", r.euler_characteristic},
+                         {"time_ms",
+                          {{"read", read_ms},
+                           {"normals", normals_ms},
+                           {"mesh", mesh_ms},
+                           {"write", write_ms},
+                           {"total", context.elapsedMs()}}}};
+  writeSummaryFile(summary_path, summary);
+  return summary;
+}
+
+}  // namespace
+
+void addMeshCommand(CLI::App& app, CommandRunner& runner) {
+  auto* command = app.add_subcommand(
+      "mesh",
+      "Ball pivoting surface reconstruction (Bernardini et al. 1999) of an oriented point cloud, with several "
+      "increasing radii. The mesh's vertices are exactly the input points in input order, with their normals and "
+      "attributes (points no triangle uses stay, unreferenced). Writes OUT and the JSON summary next to it (OUT "
+      "with .json)");
+  auto options = std::make_shared<MeshOptions>();
+  command->add_option("input", options->input, "Point cloud or mesh (.ply, .obj, .pcd, .xyz); meshes give their vertices")
+      ->required();
+  command->add_option("-o,--output", options->output, "Output mesh, written atomically (.ply keeps the attributes)")
+      ->required();
+  command->add_option("--radii", options->radii,
+                      "Ball radii, increasing: metres (0.001,0.002) or multiples of the median nearest-neighbour "
+                      "spacing (1.25x,2x,3x, the default)");
+  command->add_flag("--estimate-normals", options->estimate_normals,
+                    "Estimate normals even when the input has some (done anyway when it has none)");
+  command
+      ->add_option("--normal-radius", options->normal_radius,
+                   "Window radius of the normal estimate: metres or a multiple of the spacing")
+      ->capture_default_str();
+  command->add_option("--viewpoint", options->viewpoint,
+                      "Sensor position x,y,z (metres) that estimated normals face (default: outwards, made "
+                      "consistent over neighbours)");
+  command->callback([&runner, options] {
+    runner = [options](CommandContext& context) { context.emit(mesh(*options, context)); };
+  });
+}
+
+}  // namespace icrkit::app

@@ -1,0 +1,41 @@
+#pragma once
+/// \file
+/// Point normals from the same local Gaussian fit as the smoothing layer:
+/// the normal is the eigenvector of the smallest eigenvalue (v3) of the
+/// covariance of the points within a radius, oriented consistently.
+
+#include <icrkit/core/point_cloud.hpp>
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <optional>
+
+namespace icrkit::ndt {
+
+struct NormalEstimationParameters {
+  /// Window radius in metres; when <= 0, `radius_factor` times the median
+  /// nearest-neighbour spacing.
+  double radius = 0.0;
+  double radius_factor = 3.0;
+  /// A window with fewer points than this uses the k nearest points
+  /// instead (k = min_neighbours), so isolated points still get a normal.
+  std::size_t min_neighbours = 8;
+  /// Orientation: towards this sensor position when given, else outwards
+  /// and consistent over the neighbour graph (see orientNormals).
+  std::optional<Eigen::Vector3d> viewpoint;
+};
+
+struct NormalEstimationSummary {
+  std::size_t points = 0;
+  double radius_m = 0.0;
+  std::size_t small_windows = 0;  ///< points that fell back to the k nearest
+  std::size_t flipped = 0;        ///< normals turned by the orientation step
+};
+
+/// Replaces the cloud's normals by estimated unit normals. Throws InputError
+/// for fewer than 3 points, a non-finite coordinate (naming the point) or a
+/// radius that is not positive. Parallel and deterministic.
+NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimationParameters& params = {});
+
+}  // namespace icrkit::ndt

@@ -1,0 +1,73 @@
+#include <icrkit/ndt/normal_estimation.hpp>
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/kd_tree.hpp>
+#include <icrkit/ndt/normal_orientation.hpp>
+#include <icrkit/ndt/symmetric_eigen3.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace icrkit::ndt {
+
+NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimationParameters& params) {
+  const std::size_t n = cloud.size();
+  if (n < 3) throw InputError("point cloud", "", "normal estimation needs at least 3 points, got " + std::to_string(n));
+  for (std::size_t i = 0; i < n; ++i)
+    if (!cloud.positions[i].allFinite())
+      throw InputError("point cloud", "point " + std::to_string(i), "non-finite coordinate, expected finite x, y, z");
+  if (!std::isfinite(params.radius) || params.radius < 0)
+    throw InputError("--normal-radius", "", "the normal window radius must be positive, got " + std::to_string(params.radius));
+
+  NormalEstimationSummary summary;
+  summary.points = n;
+  summary.radius_m = params.radius;
+  if (!(params.radius > 0)) {
+    if (!(params.radius_factor > 0 && std::isfinite(params.radius_factor)))
+      throw InputError("--normal-radius", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
+    summary.radius_m = params.radius_factor * nearestNeighbourSpacing(cloud.positions).median;
+  }
+  const std::size_t k = std::max<std::size_t>(3, params.min_neighbours);
+
+  const KdTree tree(cloud.positions);
+  std::vector<Eigen::Vector3d> normals(n, Eigen::Vector3d::UnitZ());
+  std::atomic<std::size_t> small{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<std::size_t> window;
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      const Eigen::Vector3d& p = cloud.positions[i];
+      if (summary.radius_m > 0) tree.indicesWithinRadius(p, summary.radius_m, window);
+      if (window.size() < k || !(summary.radius_m > 0)) {
+        ++small;
+        window.clear();
+        for (const Neighbour& nb : tree.nearest(p, k)) window.push_back(nb.index);
+        std::sort(window.begin(), window.end());
+      }
+      // Covariance about the query point, summed in index order.
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+      for (std::size_t j : window) {
+        const Eigen::Vector3d d = cloud.positions[j] - p;
+        sum += d;
+        outer.noalias() += d * d.transpose();
+      }
+      const double inv = 1.0 / static_cast<double>(window.size());
+      const Eigen::Vector3d mean = sum * inv;
+      const SymmetricEigen3 eigen = eigenSymmetric3(outer * inv - mean * mean.transpose());
+      const Eigen::Vector3d v3 = eigen.vectors.col(2);
+      if (v3.allFinite() && v3.squaredNorm() > 0) normals[i] = v3.normalized();
+    }
+  });
+  summary.small_windows = small.load();
+  cloud.normals = std::move(normals);
+  summary.flipped = orientNormals(cloud, params.viewpoint);
+  return summary;
+}
+
+}  // namespace icrkit::ndt

@@ -1,0 +1,79 @@
+#include <icrkit/ndt/normal_estimation.hpp>
+
+#include <icrkit/core/error.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace icrkit::ndt {
+namespace {
+
+PointCloud randomSphere(std::size_t count, double radius, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  PointCloud cloud;
+  while (cloud.size() < count) {
+    Eigen::Vector3d d(g(rng), g(rng), g(rng));
+    if (d.norm() < 1e-9) continue;
+    cloud.positions.push_back(radius * d.normalized());
+  }
+  return cloud;
+}
+
+TEST(NormalEstimation, SphereNormalsAreRadialAndOutward) {
+  PointCloud cloud = randomSphere(5000, 0.1, 3);
+  const NormalEstimationSummary s = estimateNormals(cloud);
+  ASSERT_EQ(cloud.normals.size(), cloud.size());
+  EXPECT_GT(s.radius_m, 0.0);
+  double worst = 1.0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    EXPECT_NEAR(cloud.normals[i].norm(), 1.0, 1e-12);
+    worst = std::min(worst, cloud.normals[i].dot(cloud.positions[i].normalized()));
+  }
+  // The window's chord bends the fit a little; every normal points out.
+  EXPECT_GT(worst, 0.97);
+}
+
+TEST(NormalEstimation, PlaneTowardsViewpoint) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  PointCloud cloud;
+  for (int i = 0; i < 2000; ++i) cloud.positions.emplace_back(u(rng), u(rng), 0.0);
+  NormalEstimationParameters params;
+  params.viewpoint = Eigen::Vector3d(0, 0, -5);
+  estimateNormals(cloud, params);
+  for (const auto& n : cloud.normals) EXPECT_NEAR(n.z(), -1.0, 1e-9);
+  params.viewpoint = Eigen::Vector3d(0, 0, 5);
+  estimateNormals(cloud, params);
+  for (const auto& n : cloud.normals) EXPECT_NEAR(n.z(), 1.0, 1e-9);
+}
+
+TEST(NormalEstimation, IsolatedPointsFallBackToNearestNeighbours) {
+  PointCloud cloud = randomSphere(2000, 0.1, 5);
+  cloud.positions.emplace_back(0.5, 0, 0);  // far from everything
+  NormalEstimationParameters params;
+  params.radius = 0.02;
+  const NormalEstimationSummary s = estimateNormals(cloud, params);
+  EXPECT_GE(s.small_windows, 1u);
+  EXPECT_TRUE(cloud.normals.back().allFinite());
+  EXPECT_NEAR(cloud.normals.back().norm(), 1.0, 1e-12);
+}
+
+TEST(NormalEstimation, BadInput) {
+  PointCloud two;
+  two.positions = {{0, 0, 0}, {1, 0, 0}};
+  EXPECT_THROW(estimateNormals(two), InputError);
+  PointCloud cloud = randomSphere(100, 1.0, 2);
+  cloud.positions[7].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(estimateNormals(cloud), InputError);
+  cloud = randomSphere(100, 1.0, 2);
+  NormalEstimationParameters params;
+  params.radius = -1;
+  EXPECT_THROW(estimateNormals(cloud, params), InputError);
+}
+
+}  // namespace
+}  // namespace icrkit::ndt

@@ -1,0 +1,498 @@
+#include <icrkit/reconstruction/ball_pivoting.hpp>
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/mesh_topology.hpp>
+
+#include "point_grid.hpp"
+
+#include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <optional>
+#include <string>
+
+namespace icrkit::reconstruction {
+namespace {
+
+using Eigen::Vector3d;
+
+// A strictly increasing function of the angle atan2(sine, cosine) taken
+// in [0, 2 pi), with values in [0, 4): the ball's rotation compared without
+// a call to atan2. A point on the old ball's sphere (a planar quad's fourth
+// corner) can come out a hair below 0; it is the very first one touched.
+double pivotAngle(double sine, double cosine) {
+  if (sine >= 0.0) {
+    if (cosine >= 0.0) return sine + cosine > 0.0 ? sine / (sine + cosine) : 0.0;
+    return 1.0 - cosine / (sine - cosine);
+  }
+  if (cosine > 0.0 && -sine <= 1e-9 * cosine) return 0.0;
+  if (cosine < 0.0) return 2.0 - sine / (-sine - cosine);
+  return 3.0 + cosine / (cosine - sine);
+}
+
+// Centre of the ball of radius rho through a, b, c on the side the winding
+// a -> b -> c faces (right-hand rule), if the triangle is not degenerate and
+// its circumradius does not exceed rho.
+std::optional<Vector3d> ballCentre(const Vector3d& a, const Vector3d& b, const Vector3d& c, double rho,
+                                   Vector3d* unit_normal = nullptr) {
+  const Vector3d ab = b - a, ac = c - a;
+  const Vector3d n = ab.cross(ac);
+  const double n2 = n.squaredNorm();
+  // Relative test: a sliver whose area is negligible against its edges has
+  // no well-defined ball.
+  if (!(n2 > 1e-24 * ab.squaredNorm() * ac.squaredNorm())) return std::nullopt;
+  const Vector3d to_circumcentre = (ac.squaredNorm() * n.cross(ab) + ab.squaredNorm() * ac.cross(n)) / (2.0 * n2);
+  const double h2 = rho * rho - to_circumcentre.squaredNorm();
+  if (h2 < 0.0) return std::nullopt;
+  const Vector3d unit = n / std::sqrt(n2);
+  if (unit_normal) *unit_normal = unit;
+  return a + to_circumcentre + std::sqrt(h2) * unit;
+}
+
+struct Edge {
+  int a, b;        // a < b
+  int faces[2];    // -1 when absent
+  int faceCount() const { return (faces[0] >= 0) + (faces[1] >= 0); }
+};
+
+class BallPivoter {
+  struct Candidate {
+    double angle;
+    int k;
+    Vector3d centre, normal;
+  };
+  struct Scratch {
+    std::vector<const PointGrid::Entry*> near;
+    std::vector<Candidate> candidates;
+  };
+  struct PivotResult {
+    int k = -1;  // the point the ball rests on, -1: none
+  };
+  struct BatchItem {
+    int edge = -1, i = -1, j = -1, o = -1, k = -1;
+  };
+  static constexpr std::size_t kBatch = 4096;
+
+public:
+  BallPivoter(const PointCloud& cloud, const BallPivotingParameters& params)
+      : p_(cloud.positions), params_(params) {
+    const std::size_t n = p_.size();
+    normals_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) normals_[i] = cloud.normals[i].normalized();
+    used_.assign(n, 0);
+    open_edges_.assign(n, 0);
+    vertex_edges_.resize(n);
+    duplicate_.assign(n, 0);
+  }
+
+  void run(const std::vector<double>& radii, BallPivotingReport& report) {
+    for (std::size_t r = 0; r < radii.size(); ++r) {
+      rho_ = radii[r];
+      // Pivot and seed queries reach at most 2 rho from their centre.
+      grid_.emplace(p_, normals_, duplicate_, 2.0 * rho_);
+      BallPivotingPass pass;
+      pass.radius = rho_;
+      const std::size_t faces_before = faces_.size();
+      // Edges on which a smaller ball stopped get another chance.
+      if (r > 0)
+        for (std::size_t e = 0; e < edges_.size(); ++e)
+          if (edges_[e].faceCount() == 1) front_.push_back(static_cast<int>(e));
+      expandFront();
+      for (std::size_t v = 0; v < p_.size(); ++v) {
+        if (used_[v] || duplicate_[v]) continue;
+        if (findSeed(static_cast<int>(v))) {
+          ++pass.seeds;
+          expandFront();
+        }
+      }
+      pass.triangles = faces_.size() - faces_before;
+      report.passes.push_back(pass);
+    }
+  }
+
+  // Marks every point that lies within `distance` of a point with a smaller
+  // index; `nearest` holds each point's nearest-neighbour distance, so only
+  // the few points with a close neighbour are looked at.
+  std::size_t markDuplicates(const std::vector<double>& nearest, double distance) {
+    std::size_t count = 0;
+    const PointGrid grid(p_, {}, {}, std::max(distance, 1e-300));
+    for (std::size_t i = 0; i < p_.size(); ++i) {
+      if (!(nearest[i] <= distance)) continue;
+      grid.forEachWithin(p_[i], distance, [&](const PointGrid::Entry& q, double) {
+        if (q.index < i) duplicate_[i] = 1;
+      });
+      count += duplicate_[i];
+    }
+    return count;
+  }
+
+  // Closes boundary loops of three or four edges with one or two faces
+  // when their winding agrees with the point normals: gaps the ball could
+  // not close because a point off the surface (a stray scan point) was the
+  // first it touched. Returns the number of loops closed.
+  std::size_t closeSmallHoles(std::size_t max_edges) {
+    if (max_edges < 3) return 0;
+    std::vector<std::pair<int, int>> boundary;  // half-edges as their faces run them
+    for (const Edge& edge : edges_) {
+      if (edge.faceCount() != 1) continue;
+      int i = -1, j = -1, o = -1;
+      orientedEdge(edge, i, j, o);
+      boundary.emplace_back(i, j);
+    }
+    std::sort(boundary.begin(), boundary.end());
+    // The single boundary half-edge leaving v, or -1 when there are none
+    // or several (a vertex where holes touch is left alone).
+    auto next = [&](int v) {
+      auto it = std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(v, -1));
+      if (it == boundary.end() || it->first != v) return -1;
+      if (it + 1 != boundary.end() && (it + 1)->first == v) return -1;
+      return it->second;
+    };
+    auto agrees = [&](int a, int b, int c) {
+      const Vector3d n = (p_[b] - p_[a]).cross(p_[c] - p_[a]);
+      return n.dot(normals_[a]) > 0.0 && n.dot(normals_[b]) > 0.0 && n.dot(normals_[c]) > 0.0;
+    };
+    std::size_t closed = 0;
+    for (const auto& [a, b] : boundary) {
+      // Each loop once: from its smallest vertex.
+      const int c = next(b);
+      if (c < 0 || a > b || a > c) continue;
+      const int d = next(c);
+      if (d == a) {
+        if (edges_[findEdge(a, b)].faceCount() != 1 || !agrees(a, c, b)) continue;
+        addFace(a, c, b);
+        ++closed;
+      } else if (max_edges >= 4 && d >= 0 && d > a && next(d) == a) {
+        if (edges_[findEdge(a, b)].faceCount() != 1) continue;
+        // The shorter diagonal, if it is not an edge already and both
+        // halves agree with the normals; else the other one.
+        const bool ac_first = (p_[a] - p_[c]).squaredNorm() <= (p_[b] - p_[d]).squaredNorm();
+        for (int attempt = 0; attempt < 2; ++attempt) {
+          if ((attempt == 0) == ac_first) {
+            if (findEdge(a, c) < 0 && agrees(a, d, c) && agrees(a, c, b)) {
+              addFace(a, d, c);
+              addFace(a, c, b);
+              ++closed;
+              break;
+            }
+          } else if (findEdge(b, d) < 0 && agrees(b, a, d) && agrees(b, d, c)) {
+            addFace(b, a, d);
+            addFace(b, d, c);
+            ++closed;
+            break;
+          }
+        }
+      }
+    }
+    front_.clear();  // the faces added here need no pivoting
+    return closed;
+  }
+
+  // Edge statistics and boundary loops from the front's own bookkeeping.
+  void summarise(BallPivotingReport& report) const {
+    std::vector<std::pair<int, int>> boundary;
+    for (const Edge& edge : edges_) {
+      if (edge.faceCount() != 1) continue;
+      int i = -1, j = -1, o = -1;
+      orientedEdge(edge, i, j, o);
+      boundary.emplace_back(i, j);
+    }
+    report.boundary_edges = boundary.size();
+    report.boundary_loops = traceBoundaryLoops(std::move(boundary)).size();
+    report.non_manifold_edges = 0;  // an edge never takes a third face
+    report.euler_characteristic = static_cast<long>(std::count(used_.begin(), used_.end(), 1)) -
+                                  static_cast<long>(edges_.size()) + static_cast<long>(faces_.size());
+  }
+
+  std::vector<Triangle> takeFaces() { return std::move(faces_); }
+
+private:
+  // The ball of radius rho at `centre` holds no usable point other than the
+  // triangle's own. Points whose normals face away from the triangle are
+  // ignored, so the two sides of a thin sheet do not block each other.
+  // (Duplicates are not in the grid, so they never block a ball.)
+  bool ballIsEmpty(const Vector3d& centre, const Vector3d& triangle_normal,
+                   const std::vector<const PointGrid::Entry*>& near, int i, int j, int k) const {
+    const double limit = rho_ * rho_ * (1.0 - 1e-9);
+    for (const PointGrid::Entry* q : near) {
+      const int qi = static_cast<int>(q->index);
+      if (qi == i || qi == j || qi == k) continue;
+      if ((q->position - centre).squaredNorm() < limit && q->normal.dot(triangle_normal) > 0.0) return false;
+    }
+    return true;
+  }
+
+  int findEdge(int a, int b) const {
+    const int lo = std::min(a, b), hi = std::max(a, b);
+    for (int e : vertex_edges_[lo])
+      if (edges_[e].b == hi) return e;
+    return -1;
+  }
+
+  // Whether the directed edge from -> to can be added to a new face: the
+  // edge is new, or it borders exactly one face that runs it to -> from.
+  bool canUse(int from, int to) const {
+    const int e = findEdge(from, to);
+    if (e < 0) return true;
+    if (edges_[e].faceCount() != 1) return false;
+    const Triangle& f = faces_[edges_[e].faces[0] >= 0 ? edges_[e].faces[0] : edges_[e].faces[1]];
+    for (int k = 0; k < 3; ++k)
+      if (f[k] == to && f[(k + 1) % 3] == from) return true;
+    return false;
+  }
+
+  // A used vertex without an open edge is surrounded by triangles.
+  bool isInner(int v) const { return used_[v] && open_edges_[v] == 0; }
+
+  void attachEdge(int from, int to, int face) {
+    int e = findEdge(from, to);
+    if (e < 0) {
+      e = static_cast<int>(edges_.size());
+      edges_.push_back({std::min(from, to), std::max(from, to), {face, -1}});
+      vertex_edges_[std::min(from, to)].push_back(e);
+      ++open_edges_[from];
+      ++open_edges_[to];
+      front_.push_back(e);
+      return;
+    }
+    Edge& edge = edges_[e];
+    (edge.faces[0] < 0 ? edge.faces[0] : edge.faces[1]) = face;
+    --open_edges_[from];
+    --open_edges_[to];
+  }
+
+  void addFace(int a, int b, int c) {
+    const int face = static_cast<int>(faces_.size());
+    faces_.emplace_back(a, b, c);
+    used_[a] = used_[b] = used_[c] = 1;
+    attachEdge(a, b, face);
+    attachEdge(b, c, face);
+    attachEdge(c, a, face);
+  }
+
+  bool findSeed(int v) {
+    grid_->entriesWithin(p_[v], 2.0 * rho_, near_);
+    // Pair the closest orphans first: small triangles are the likeliest
+    // to have an empty ball.
+    seed_candidates_.clear();
+    for (const PointGrid::Entry* q : near_) {
+      const int qi = static_cast<int>(q->index);
+      if (qi == v || used_[qi] || q->normal.dot(normals_[v]) <= 0.0) continue;
+      seed_candidates_.push_back({(q->position - p_[v]).squaredNorm(), qi});
+    }
+    std::sort(seed_candidates_.begin(), seed_candidates_.end());
+    if (seed_candidates_.size() > params_.seed_neighbours) seed_candidates_.resize(params_.seed_neighbours);
+    for (std::size_t x = 0; x < seed_candidates_.size(); ++x)
+      for (std::size_t y = x + 1; y < seed_candidates_.size(); ++y) {
+        int a = seed_candidates_[x].second, b = seed_candidates_[y].second;
+        if ((p_[a] - p_[v]).cross(p_[b] - p_[v]).dot(normals_[v]) < 0.0) std::swap(a, b);
+        Vector3d normal;
+        const auto centre = ballCentre(p_[v], p_[a], p_[b], rho_, &normal);
+        if (!centre) continue;
+        if (normal.dot(normals_[v]) <= 0.0 || normal.dot(normals_[a]) <= 0.0 || normal.dot(normals_[b]) <= 0.0)
+          continue;
+        if (!ballIsEmpty(*centre, normal, near_, v, a, b)) continue;
+        addFace(v, a, b);
+        return true;
+      }
+    return false;
+  }
+
+  // The face through the first point that the ball, pivoting around the
+  // edge i -> j of face (i, j, o), touches: a pure function of the geometry
+  // (not of the mesh built so far), so front edges can be pivoted in
+  // parallel and their faces added in order afterwards.
+  PivotResult pivot(int i, int j, int o, Scratch& scratch) const {
+    PivotResult result;
+    const auto old_centre = ballCentre(p_[i], p_[j], p_[o], rho_);
+    if (!old_centre) return result;
+    const Vector3d mid = 0.5 * (p_[i] + p_[j]);
+    const Vector3d axis = (p_[j] - p_[i]).normalized();
+    const Vector3d from = *old_centre - mid;
+    // Every point the pivoting ball can touch, and every point that could
+    // lie inside it, is within the centre circle's radius plus rho of mid.
+    const double circle = std::sqrt(std::max(0.0, rho_ * rho_ - 0.25 * (p_[j] - p_[i]).squaredNorm()));
+    grid_->entriesWithin(mid, circle + rho_, scratch.near);
+
+    scratch.candidates.clear();
+    const Vector3d ji = p_[i] - p_[j];
+    const Vector3d& ni = normals_[i];
+    const Vector3d& nj = normals_[j];
+    for (const PointGrid::Entry* q : scratch.near) {
+      const int k = static_cast<int>(q->index);
+      if (k == i || k == j || k == o) continue;
+      // Orientation first: it rejects the points behind the surface
+      // before the costlier ball centre.
+      const Vector3d n = ji.cross(q->position - p_[j]);
+      if (n.dot(q->normal) <= 0.0 || n.dot(ni) <= 0.0 || n.dot(nj) <= 0.0) continue;
+      Vector3d normal;
+      const auto centre = ballCentre(p_[j], p_[i], q->position, rho_, &normal);
+      if (!centre) continue;
+      const Vector3d to = *centre - mid;
+      scratch.candidates.push_back({pivotAngle(axis.dot(from.cross(to)), from.dot(to)), k, *centre, normal});
+    }
+    // In pivoting order; the first candidate nearly always has an empty
+    // ball, so selecting minima beats sorting.
+    auto earlier = [](const Candidate& x, const Candidate& y) {
+      return x.angle != y.angle ? x.angle < y.angle : x.k < y.k;
+    };
+    auto& c = scratch.candidates;
+    for (auto end = c.end(); end != c.begin(); --end) {
+      const auto first = std::min_element(c.begin(), end, earlier);
+      if (ballIsEmpty(first->centre, first->normal, scratch.near, i, j, first->k)) {
+        result.k = first->k;
+        break;
+      }
+      std::iter_swap(first, end - 1);
+    }
+    return result;
+  }
+
+  // The face (j, i, k) is added if the mesh stays edge-manifold and
+  // consistently oriented; otherwise the edge stays a boundary edge for this
+  // radius: the first point the ball rests on decides.
+  void apply(int i, int j, int k) {
+    if (k >= 0 && !isInner(k) && canUse(i, k) && canUse(k, j)) addFace(j, i, k);
+  }
+
+  // The face's edge runs i -> j; o is the face's third vertex.
+  void orientedEdge(const Edge& edge, int& i, int& j, int& o) const {
+    const Triangle& f = faces_[edge.faces[0] >= 0 ? edge.faces[0] : edge.faces[1]];
+    for (int k = 0; k < 3; ++k)
+      if (f[k] != edge.a && f[k] != edge.b) {
+        o = f[k];
+        i = f[(k + 1) % 3];
+        j = f[(k + 2) % 3];
+      }
+  }
+
+  void expandFront() {
+    // Batches of front edges are pivoted in parallel and applied in queue
+    // order; edges the batch creates join the queue behind it, exactly as
+    // in the one-at-a-time algorithm, so the mesh does not depend on the
+    // batch size or the thread count.
+    while (!front_.empty()) {
+      batch_.clear();
+      while (!front_.empty() && batch_.size() < kBatch) {
+        const int e = front_.front();
+        front_.pop_front();
+        if (edges_[e].faceCount() != 1) continue;
+        BatchItem item;
+        item.edge = e;
+        orientedEdge(edges_[e], item.i, item.j, item.o);
+        batch_.push_back(item);
+      }
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch_.size(), 64),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          Scratch& scratch = scratch_.local();
+                          for (std::size_t b = range.begin(); b != range.end(); ++b)
+                            batch_[b].k = pivot(batch_[b].i, batch_[b].j, batch_[b].o, scratch).k;
+                        });
+      for (const BatchItem& item : batch_)
+        if (edges_[item.edge].faceCount() == 1) apply(item.i, item.j, item.k);
+    }
+  }
+
+
+  const std::vector<Vector3d>& p_;
+  std::vector<Vector3d> normals_;
+  std::optional<PointGrid> grid_;
+  const BallPivotingParameters& params_;
+  double rho_ = 0.0;
+
+  std::vector<std::uint8_t> used_, duplicate_;
+  std::vector<int> open_edges_;           // per vertex: incident edges with one face
+  std::vector<std::vector<int>> vertex_edges_;  // per vertex: edges whose smaller end it is
+  std::vector<Edge> edges_;
+  std::vector<Triangle> faces_;
+  std::deque<int> front_;
+
+  std::vector<const PointGrid::Entry*> near_;
+  std::vector<std::pair<double, int>> seed_candidates_;
+  std::vector<BatchItem> batch_;
+  tbb::enumerable_thread_specific<Scratch> scratch_;
+};
+
+void validateInput(const PointCloud& cloud) {
+  if (cloud.size() < 3)
+    throw InputError("point cloud", "", "ball pivoting needs at least 3 points, got " + std::to_string(cloud.size()));
+  if (!cloud.hasNormals())
+    throw InputError("point cloud", "", "ball pivoting needs oriented normals (nx, ny, nz); the cloud has none");
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+    if (!cloud.positions[i].allFinite())
+      throw InputError("point cloud", "point " + std::to_string(i), "non-finite coordinate, expected finite x, y, z");
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Vector3d& n = cloud.normals[i];
+    if (!n.allFinite() || !(n.squaredNorm() > 0.0))
+      throw InputError("point cloud", "point " + std::to_string(i), "the normal must be finite and non-zero");
+  }
+}
+
+std::vector<double> radiiFor(const BallPivotingParameters& params, double spacing) {
+  std::vector<double> radii = params.radii;
+  if (radii.empty()) {
+    if (params.radius_factors.empty())
+      throw InputError("--radii", "", "give radii in metres or as multiples of the median spacing");
+    if (!(spacing > 0.0))
+      throw InputError("--radii", "",
+                       "the median point spacing is 0 (more than half the points are duplicates); give radii in "
+                       "metres");
+    for (double f : params.radius_factors) {
+      if (!std::isfinite(f) || !(f > 0.0))
+        throw InputError("--radii", "", "a radius factor must be finite and > 0, got " + std::to_string(f));
+      radii.push_back(f * spacing);
+    }
+  }
+  for (double r : radii)
+    if (!std::isfinite(r) || !(r > 0.0))
+      throw InputError("--radii", "", "a radius must be finite and > 0 m, got " + std::to_string(r));
+  std::sort(radii.begin(), radii.end());
+  radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
+  return radii;
+}
+
+}  // namespace
+
+std::vector<double> ballPivotingRadii(const PointCloud& cloud, const BallPivotingParameters& params) {
+  return radiiFor(params, params.radii.empty() ? nearestNeighbourSpacing(cloud.positions).median : 0.0);
+}
+
+BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParameters& params) {
+  validateInput(cloud);
+  double duplicate_distance = params.duplicate_distance;
+  if (!std::isfinite(duplicate_distance)) throw InputError("duplicate_distance", "", "must be finite");
+  if (duplicate_distance < 0.0) duplicate_distance = 1e-9 * cloud.bounds().diagonal().norm();
+  const std::vector<double> nearest = nearestNeighbourDistances(cloud.positions);
+  const double spacing = spacingStatistics(nearest).median;
+  const std::vector<double> radii = radiiFor(params, spacing);
+
+  BallPivotingResult result;
+  BallPivotingReport& report = result.report;
+  report.points = cloud.size();
+  report.median_spacing = spacing;
+
+  BallPivoter pivoter(cloud, params);
+  report.duplicate_points = pivoter.markDuplicates(nearest, duplicate_distance);
+  pivoter.run(radii, report);
+  report.closed_holes = pivoter.closeSmallHoles(params.close_holes_up_to);
+  pivoter.summarise(report);
+
+  result.mesh.vertices = cloud;
+  result.mesh.faces = pivoter.takeFaces();
+  const MeshComponents components = meshComponents(result.mesh);
+  report.triangles = result.mesh.faces.size();
+  report.unused_points = components.unreferenced_vertices;
+  report.used_points = report.points - report.unused_points;
+  report.components = components.count;
+  return result;
+}
+
+}  // namespace icrkit::reconstruction
