@@ -57,5 +57,5 @@ PY
 
 echo "| cloud | points | radii (x median spacing) | program | time (s) | used points | triangles | boundary edges | boundary loops | non-manifold edges |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
-run_case bun_zipper "$work/bunny.ply" "${BUNNY_RADII:-1.25x,2x,3x}"
-run_case bunny_1m "$work/bunny_1m.ply" "${MILLION_RADII:-2x,3x,4.5x}"
+run_case bun_zipper "$work/bunny.ply" "${BUNNY_RADII:-1.5x,2.5x,4x}"
+run_case bunny_1m "$work/bunny_1m.ply" "${MILLION_RADII:-1.5x,2.5x,4x}"

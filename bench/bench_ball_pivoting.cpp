@@ -1,5 +1,5 @@
 // Ball pivoting (reconstruction::ballPivoting) on the bun_zipper points with
-// estimated normals and the default radii (1.25x, 2x, 3x the median
+// estimated normals and the default radii (1.5x, 2.5x, 4x the median
 // spacing), on 1 and 2 TBB threads. The side-by-side comparison with Open3D,
 // on this cloud and on 1M points, is bench/ball_pivoting_vs_open3d.sh.
 

@@ -134,7 +134,7 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner) {
       ->required();
   command->add_option("--radii", options->radii,
                       "Ball radii, increasing: metres (0.001,0.002) or multiples of the median nearest-neighbour "
-                      "spacing (1.25x,2x,3x, the default)");
+                      "spacing (1.5x,2.5x,4x, the default)");
   command->add_flag("--estimate-normals", options->estimate_normals,
                     "Estimate normals even when the input has some (done anyway when it has none)");
   command

@@ -4,6 +4,7 @@
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
 
+#include "morton_order.hpp"
 #include "point_grid.hpp"
 
 #include <Eigen/Geometry>
@@ -82,11 +83,18 @@ class BallPivoter {
   static constexpr std::size_t kBatch = 4096;
 
 public:
-  BallPivoter(const PointCloud& cloud, const BallPivotingParameters& params)
-      : p_(cloud.positions), params_(params) {
-    const std::size_t n = p_.size();
+  // Works on a copy of the points in Morton order (`order` lists the input
+  // index of each): the front then walks through memory about as it walks
+  // over the surface, whatever order the input came in.
+  BallPivoter(const PointCloud& cloud, std::vector<std::uint32_t> order, const BallPivotingParameters& params)
+      : order_(std::move(order)), params_(params) {
+    const std::size_t n = order_.size();
+    p_.resize(n);
     normals_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) normals_[i] = cloud.normals[i].normalized();
+    for (std::size_t i = 0; i < n; ++i) {
+      p_[i] = cloud.positions[order_[i]];
+      normals_[i] = cloud.normals[order_[i]].normalized();
+    }
     used_.assign(n, 0);
     open_edges_.assign(n, 0);
     vertex_edges_.resize(n);
@@ -97,7 +105,7 @@ public:
     for (std::size_t r = 0; r < radii.size(); ++r) {
       rho_ = radii[r];
       // Pivot and seed queries reach at most 2 rho from their centre.
-      grid_.emplace(p_, normals_, duplicate_, 2.0 * rho_);
+      grid_.build(p_, normals_, duplicate_, 2.0 * rho_);
       BallPivotingPass pass;
       pass.radius = rho_;
       const std::size_t faces_before = faces_.size();
@@ -118,16 +126,23 @@ public:
     }
   }
 
+  const std::vector<Vector3d>& positions() const { return p_; }
+
   // Marks every point that lies within `distance` of a point with a smaller
-  // index; `nearest` holds each point's nearest-neighbour distance, so only
-  // the few points with a close neighbour are looked at.
+  // input index; `nearest` holds each point's nearest-neighbour distance, so
+  // only the few points with a close neighbour are looked at.
   std::size_t markDuplicates(const std::vector<double>& nearest, double distance) {
+    // Both points of a duplicate pair have a neighbour that close: only
+    // those go into the grid.
+    std::vector<std::uint8_t> far(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i) far[i] = !(nearest[i] <= distance);
+    if (std::count(far.begin(), far.end(), 0) == 0) return 0;
     std::size_t count = 0;
-    const PointGrid grid(p_, {}, {}, std::max(distance, 1e-300));
+    const PointGrid grid(p_, {}, far, std::max(distance, 1e-300));
     for (std::size_t i = 0; i < p_.size(); ++i) {
-      if (!(nearest[i] <= distance)) continue;
+      if (far[i]) continue;
       grid.forEachWithin(p_[i], distance, [&](const PointGrid::Entry& q, double) {
-        if (q.index < i) duplicate_[i] = 1;
+        if (order_[q.index] < order_[i]) duplicate_[i] = 1;
       });
       count += duplicate_[i];
     }
@@ -212,7 +227,12 @@ public:
                                   static_cast<long>(edges_.size()) + static_cast<long>(faces_.size());
   }
 
-  std::vector<Triangle> takeFaces() { return std::move(faces_); }
+  /// The faces, in input indices.
+  std::vector<Triangle> takeFaces() {
+    for (Triangle& f : faces_)
+      for (int k = 0; k < 3; ++k) f[k] = static_cast<int>(order_[static_cast<std::size_t>(f[k])]);
+    return std::move(faces_);
+  }
 
 private:
   // The ball of radius rho at `centre` holds no usable point other than the
@@ -279,7 +299,7 @@ private:
   }
 
   bool findSeed(int v) {
-    grid_->entriesWithin(p_[v], 2.0 * rho_, near_);
+    grid_.entriesWithin(p_[v], 2.0 * rho_, near_);
     // Pair the closest orphans first: small triangles are the likeliest
     // to have an empty ball.
     seed_candidates_.clear();
@@ -320,7 +340,7 @@ private:
     // Every point the pivoting ball can touch, and every point that could
     // lie inside it, is within the centre circle's radius plus rho of mid.
     const double circle = std::sqrt(std::max(0.0, rho_ * rho_ - 0.25 * (p_[j] - p_[i]).squaredNorm()));
-    grid_->entriesWithin(mid, circle + rho_, scratch.near);
+    grid_.entriesWithin(mid, circle + rho_, scratch.near);
 
     scratch.candidates.clear();
     const Vector3d ji = p_[i] - p_[j];
@@ -402,9 +422,9 @@ private:
   }
 
 
-  const std::vector<Vector3d>& p_;
-  std::vector<Vector3d> normals_;
-  std::optional<PointGrid> grid_;
+  std::vector<std::uint32_t> order_;
+  std::vector<Vector3d> p_, normals_;
+  PointGrid grid_;
   const BallPivotingParameters& params_;
   double rho_ = 0.0;
 
@@ -470,7 +490,8 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   double duplicate_distance = params.duplicate_distance;
   if (!std::isfinite(duplicate_distance)) throw InputError("duplicate_distance", "", "must be finite");
   if (duplicate_distance < 0.0) duplicate_distance = 1e-9 * cloud.bounds().diagonal().norm();
-  const std::vector<double> nearest = nearestNeighbourDistances(cloud.positions);
+  BallPivoter pivoter(cloud, mortonOrder(cloud.positions), params);
+  const std::vector<double> nearest = nearestNeighbourDistances(pivoter.positions());
   const double spacing = spacingStatistics(nearest).median;
   const std::vector<double> radii = radiiFor(params, spacing);
 
@@ -479,7 +500,6 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   report.points = cloud.size();
   report.median_spacing = spacing;
 
-  BallPivoter pivoter(cloud, params);
   report.duplicate_points = pivoter.markDuplicates(nearest, duplicate_distance);
   pivoter.run(radii, report);
   report.closed_holes = pivoter.closeSmallHoles(params.close_holes_up_to);

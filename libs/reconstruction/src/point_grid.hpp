@@ -6,6 +6,8 @@
 // them from contiguous memory, where a kd-tree descends and then gathers
 // from all over the input arrays.
 
+#include "morton_order.hpp"
+
 #include <Eigen/Core>
 
 #include <cmath>
@@ -27,48 +29,61 @@ public:
     std::uint32_t index;
   };
 
+  PointGrid() = default;
+
   /// `normals` may be empty (entries then hold zero normals); points with a
   /// non-zero `skip` entry are left out (`skip` may be empty).
   PointGrid(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
-            const std::vector<std::uint8_t>& skip, double cell_size)
-      : cell_(cell_size) {
+            const std::vector<std::uint8_t>& skip, double cell_size) {
+    build(points, normals, skip, cell_size);
+  }
+
+  /// (Re)builds the grid, reusing the memory of an earlier build.
+  void build(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+             const std::vector<std::uint8_t>& skip, double cell_size) {
     if (!(cell_size > 0.0) || !std::isfinite(cell_size)) throw std::invalid_argument("PointGrid: cell size must be > 0");
     const std::size_t n = points.size();
+    auto skipped = [&](std::size_t i) { return !skip.empty() && skip[i]; };
     origin_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    for (const auto& p : points) origin_ = origin_.cwiseMin(p);
+    Eigen::Vector3d top = -origin_;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!skipped(i)) {
+        origin_ = origin_.cwiseMin(points[i]);
+        top = top.cwiseMax(points[i]);
+      }
     // Cells are addressed by 32-bit coordinates; a cloud spread over more
     // cells than that gets coarser cells (correct, only slower).
-    Eigen::Vector3d extent = Eigen::Vector3d::Zero();
-    for (const auto& p : points) extent = extent.cwiseMax(p - origin_);
-    cell_ = std::max(cell_, extent.maxCoeff() / 1e9);
+    cell_ = std::max(cell_size, (top - origin_).maxCoeff() / 1e9);
     inverse_ = 1.0 / cell_;
 
-    // Count the points of each cell in a provisional table sized for the
-    // worst case, then lay the cells out in Morton order in a table sized
-    // for the cells that exist: neighbouring cells then sit close together
-    // in memory and the table stays small enough for the caches.
-    auto skipped = [&](std::size_t i) { return !skip.empty() && skip[i]; };
-    std::vector<Key> keys(n);
-    {
-      resize(2 * n);
-      for (std::size_t i = 0; i < n; ++i) {
-        if (skipped(i)) continue;
-        keys[i] = keyOf(points[i]);
-        Slot& slot = slots_[find(keys[i])];
-        if (!slot.used) {
-          slot.used = true;
-          slot.key = keys[i];
+    // Count the points of each cell in a table that grows with the cells
+    // found, then lay the cells out in Morton order in a table sized for
+    // them: neighbouring cells then sit close together in memory.
+    keys_.resize(n);
+    resize(n / 4);
+    std::size_t cells = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (skipped(i)) continue;
+      keys_[i] = keyOf(points[i]);
+      std::size_t s = find(keys_[i]);
+      if (!slots_[s].used) {
+        if (2 * (cells + 1) > slots_.size()) {
+          grow();
+          s = find(keys_[i]);
         }
-        ++slot.count;
+        slots_[s].used = true;
+        slots_[s].key = keys_[i];
+        ++cells;
       }
+      ++slots_[s].count;
     }
-    std::vector<std::pair<std::uint64_t, Slot>> cells;
+    cells_.clear();
     for (const Slot& slot : slots_)
-      if (slot.used) cells.emplace_back(morton(slot.key), slot);
-    std::sort(cells.begin(), cells.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    resize(2 * cells.size());
+      if (slot.used) cells_.emplace_back(mortonCode(slot.key.x, slot.key.y, slot.key.z), slot);
+    std::sort(cells_.begin(), cells_.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    resize(2 * cells_.size());
     std::uint32_t offset = 0;
-    for (auto& cell : cells) {
+    for (const auto& cell : cells_) {
       Slot& slot = slots_[find(cell.second.key)];
       slot = cell.second;
       slot.begin = offset;
@@ -79,7 +94,7 @@ public:
     // Filled in index order: each cell lists its points ascending.
     for (std::size_t i = 0; i < n; ++i) {
       if (skipped(i)) continue;
-      Slot& slot = slots_[find(keys[i])];
+      Slot& slot = slots_[find(keys_[i])];
       Entry& entry = entries_[slot.begin + slot.count++];
       entry.position = points[i];
       entry.normal = normals.empty() ? Eigen::Vector3d::Zero() : normals[i];
@@ -142,19 +157,12 @@ private:
     mask_ = capacity - 1;
   }
 
-  // Interleaved bits of the cell coordinates (21 each): cells close in
-  // space get close codes. Only the memory layout depends on it.
-  static std::uint64_t morton(const Key& key) {
-    auto spread = [](std::int32_t v) {
-      std::uint64_t x = static_cast<std::uint64_t>(std::max(0, std::min(v, (1 << 21) - 1)));
-      x = (x | (x << 32)) & 0x1f00000000ffffULL;
-      x = (x | (x << 16)) & 0x1f0000ff0000ffULL;
-      x = (x | (x << 8)) & 0x100f00f00f00f00fULL;
-      x = (x | (x << 4)) & 0x10c30c30c30c30c3ULL;
-      x = (x | (x << 2)) & 0x1249249249249249ULL;
-      return x;
-    };
-    return spread(key.x) | (spread(key.y) << 1) | (spread(key.z) << 2);
+  void grow() {
+    std::vector<Slot> old;
+    old.swap(slots_);
+    resize(2 * old.size());
+    for (const Slot& slot : old)
+      if (slot.used) slots_[find(slot.key)] = slot;
   }
 
   // The slot holding `key`, or the empty slot where it would go (linear
@@ -169,8 +177,10 @@ private:
     return s;
   }
 
-  double cell_, inverse_ = 0.0;
-  Eigen::Vector3d origin_;
+  double cell_ = 1.0, inverse_ = 1.0;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  std::vector<Key> keys_;
+  std::vector<std::pair<std::uint64_t, Slot>> cells_;
   std::vector<Slot> slots_;
   std::size_t mask_ = 0;
   std::vector<Entry> entries_;
