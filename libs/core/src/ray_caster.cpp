@@ -1,8 +1,10 @@
 #include <icrkit/core/ray_caster.hpp>
+#include <icrkit/core/triangle_distance.hpp>
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <Eigen/Geometry>
 
@@ -10,6 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace icrkit {
 namespace {
@@ -103,6 +106,11 @@ void filterCandidates(const RTCFilterFunctionNArguments* args) {
   }
 }
 
+void checkMaxDistance(double max_distance) {
+  if (!(max_distance >= 0.0))
+    throw std::invalid_argument("closest point: max_distance must be >= 0, got " + std::to_string(max_distance));
+}
+
 const std::uint8_t* checkedMask(const FaceMask& mask, std::size_t face_count) {
   if (mask.empty()) return nullptr;
   if (mask.size() != face_count)
@@ -125,10 +133,14 @@ struct RayCaster::Impl {
   // Per face, from the double-precision vertices: the unit normal and the
   // plane offset n . (a - offset). One cache line per hit instead of a face
   // and then its vertices (two dependent misses on random rays), and all a
-  // hit needs to refine its distance.
-  struct alignas(32) FacePlane {  // aligned: never straddles two cache lines
+  // hit needs to refine its distance. The bounding sphere in the same line
+  // lets a closest-point query reject most candidate faces without
+  // fetching their vertices.
+  struct alignas(64) FacePlane {  // aligned: never straddles two cache lines
     Eigen::Vector3d normal;        // zero for a degenerate face
     double offset;
+    Eigen::Vector3d centre;        // of the corners
+    double radius;                 // the farthest corner from the centre
   };
   std::vector<FacePlane> planes;
   // Embree stores single-precision vertices; shifting them to the bounding
@@ -137,6 +149,10 @@ struct RayCaster::Impl {
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   Eigen::AlignedBox3d local_bounds;  // bounds after the shift
   double extent = 0.0;               // bounding-box diagonal
+  // Closest-point queries measure candidates in double precision, after the
+  // same shift, so they need the vertices Embree only holds as floats.
+  std::vector<Eigen::Vector3d> local_positions;
+  std::vector<Triangle> faces;
   RTCScene scene = nullptr;
 
   explicit Impl(const TriangleMesh& mesh) {
@@ -151,14 +167,20 @@ struct RayCaster::Impl {
       local_bounds = Eigen::AlignedBox3d(bounds.min() - offset, bounds.max() - offset);
       extent = bounds.diagonal().norm();
     }
+    faces = mesh.faces;
+    local_positions.reserve(positions.size());
+    for (const Eigen::Vector3d& p : positions) local_positions.push_back(p - offset);
     planes.reserve(mesh.faces.size());
     for (const Triangle& f : mesh.faces) {
-      const Eigen::Vector3d a = positions[static_cast<std::size_t>(f[0])] - offset;
-      const Eigen::Vector3d normal = (positions[static_cast<std::size_t>(f[1])] - offset - a)
-                                         .cross(positions[static_cast<std::size_t>(f[2])] - offset - a);
+      const Eigen::Vector3d& a = local_positions[static_cast<std::size_t>(f[0])];
+      const Eigen::Vector3d& b = local_positions[static_cast<std::size_t>(f[1])];
+      const Eigen::Vector3d& c = local_positions[static_cast<std::size_t>(f[2])];
+      const Eigen::Vector3d normal = (b - a).cross(c - a);
       const double length = normal.norm();
       const Eigen::Vector3d unit = length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
-      planes.push_back({unit, unit.dot(a)});
+      const Eigen::Vector3d centre = (a + b + c) / 3.0;
+      const double radius = std::max({(a - centre).norm(), (b - centre).norm(), (c - centre).norm()});
+      planes.push_back({unit, unit.dot(a), centre, radius});
     }
 
     scene = rtcNewScene(device);
@@ -368,6 +390,120 @@ struct RayCaster::Impl {
     });
     return hits;
   }
+
+  // One closest-point query, as the Embree callback sees it.
+  struct PointSearch {
+    const Impl* impl;
+    const std::uint8_t* mask;
+    Eigen::Vector3d local_query;
+    double max_distance;
+    // Embree prunes with float boxes around float vertices, from a float
+    // query point: each off by up to 2^-24 of its magnitude. A radius this
+    // much above the double distance never prunes a face that could still
+    // win, ties included.
+    double slack;
+    int face = -1;
+    TrianglePoint best;
+  };
+
+  static bool visitCandidate(RTCPointQueryFunctionArguments* args) {
+    auto& search = *static_cast<PointSearch*>(args->userPtr);
+    const auto face = static_cast<int>(args->primID);
+    if (search.mask && search.mask[face] == 0) return false;
+    const Impl& impl = *search.impl;
+    if (search.face >= 0) {
+      // The distance to the plane and to the bounding sphere both bound the
+      // distance to the face from below; with the slack, rounding in these
+      // bounds cannot reject a face that the exact test would keep.
+      const FacePlane& plane = impl.planes[static_cast<std::size_t>(face)];
+      const double lower = std::max(std::abs(plane.normal.dot(search.local_query) - plane.offset),
+                                    (search.local_query - plane.centre).norm() - plane.radius);
+      if (lower > search.best.distance + search.slack) return false;
+    }
+    const Triangle& f = impl.faces[static_cast<std::size_t>(face)];
+    const TrianglePoint candidate =
+        closestPointOnTriangle(search.local_query, impl.local_positions[static_cast<std::size_t>(f[0])],
+                               impl.local_positions[static_cast<std::size_t>(f[1])],
+                               impl.local_positions[static_cast<std::size_t>(f[2])]);
+    if (candidate.distance > search.max_distance) return false;
+    // Embree's visiting order depends on the tree, not on face indices; the
+    // explicit tie-break makes the answer a function of the mesh alone.
+    if (search.face >= 0 && (candidate.distance > search.best.distance ||
+                             (candidate.distance == search.best.distance && face > search.face)))
+      return false;
+    search.face = face;
+    search.best = candidate;
+    const auto radius = static_cast<float>(candidate.distance + search.slack);
+    if (!(radius < args->query->radius)) return false;
+    args->query->radius = radius;
+    return true;  // tells Embree the query domain shrank
+  }
+
+  // Query indices in Morton (Z-curve) order of their positions in the mesh
+  // box, queries outside clamped to it. A query mostly visits faces whose
+  // data a cache miss fetches; in this order its neighbours visit the same
+  // faces while they are still cached. Each answer depends on its query
+  // alone, so the order changes the speed, never the results.
+  std::vector<std::size_t> spatialOrder(const std::vector<Eigen::Vector3d>& queries) const {
+    constexpr int kBits = 21;  // per axis: three fit in 64 bits
+    const double top = double((1u << kBits) - 1);
+    const Eigen::Vector3d scale = (top / local_bounds.sizes().array().max(1e-300)).matrix();
+    std::vector<std::pair<std::uint64_t, std::size_t>> keys(queries.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          const Eigen::Vector3d cell =
+                              (queries[i] - offset - local_bounds.min()).cwiseProduct(scale);
+                          std::uint64_t code = 0;
+                          for (int axis = 0; axis < 3; ++axis) {
+                            // NaN fails the comparison and lands in cell 0.
+                            const double c = cell[axis] > 0.0 ? std::min(cell[axis], top) : 0.0;
+                            code |= spreadBits(static_cast<std::uint64_t>(c)) << axis;
+                          }
+                          keys[i] = {code, i};
+                        }
+                      });
+    tbb::parallel_sort(keys.begin(), keys.end());  // keys are unique: one order whatever the threads
+    std::vector<std::size_t> order(keys.size());
+    for (std::size_t k = 0; k < keys.size(); ++k) order[k] = keys[k].second;
+    return order;
+  }
+
+  // The low 21 bits of x moved to every third bit.
+  static std::uint64_t spreadBits(std::uint64_t x) {
+    x &= 0x1FFFFFULL;
+    x = (x | (x << 32)) & 0x1F00000000FFFFULL;
+    x = (x | (x << 16)) & 0x1F0000FF0000FFULL;
+    x = (x | (x << 8)) & 0x100F00F00F00F00FULL;
+    x = (x | (x << 4)) & 0x10C30C30C30C30C3ULL;
+    x = (x | (x << 2)) & 0x1249249249249249ULL;
+    return x;
+  }
+
+  ClosestPoint closestPoint(const Eigen::Vector3d& query, double max_distance, const std::uint8_t* mask) const {
+    if (planes.empty() || !query.allFinite()) return {};
+    const Eigen::Vector3d local_query = query - offset;
+    PointSearch search{this, mask, local_query, max_distance, 1e-6 * (extent + local_query.norm()), -1, {}};
+    RTCPointQuery rtc_query;
+    rtc_query.x = static_cast<float>(search.local_query.x());
+    rtc_query.y = static_cast<float>(search.local_query.y());
+    rtc_query.z = static_cast<float>(search.local_query.z());
+    rtc_query.time = 0.0f;
+    rtc_query.radius = static_cast<float>(max_distance + search.slack);  // infinity stays infinity
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(scene, &rtc_query, &context, visitCandidate, &search);
+    if (search.face < 0) return {};
+    ClosestPoint result;
+    result.found = true;
+    result.distance = search.best.distance;
+    result.face = search.face;
+    result.u = search.best.u;
+    result.v = search.best.v;
+    result.point = search.best.point + offset;
+    result.face_normal = planes[static_cast<std::size_t>(search.face)].normal;
+    return result;
+  }
 };
 
 RayCaster::RayCaster(const TriangleMesh& mesh) {
@@ -415,6 +551,28 @@ std::vector<std::vector<RayHit>> RayCaster::allHitsOnLines(const std::vector<Eig
                         hits[i] = impl_->allOnLine(origins[i], directions[i], checked);
                     });
   return hits;
+}
+
+ClosestPoint RayCaster::closestPoint(const Eigen::Vector3d& query, double max_distance, const FaceMask& mask) const {
+  checkMaxDistance(max_distance);
+  return impl_->closestPoint(query, max_distance, checkedMask(mask, faceCount()));
+}
+
+std::vector<ClosestPoint> RayCaster::closestPoints(const std::vector<Eigen::Vector3d>& queries, double max_distance,
+                                                   const FaceMask& mask) const {
+  checkMaxDistance(max_distance);
+  const std::uint8_t* checked = checkedMask(mask, faceCount());
+  std::vector<ClosestPoint> points(queries.size());
+  if (impl_->planes.empty()) return points;
+  const std::vector<std::size_t> order = impl_->spatialOrder(queries);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, queries.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                        const std::size_t i = order[k];
+                        points[i] = impl_->closestPoint(queries[i], max_distance, checked);
+                      }
+                    });
+  return points;
 }
 
 }  // namespace icrkit

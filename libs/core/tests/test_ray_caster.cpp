@@ -1,6 +1,8 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -18,19 +20,7 @@
 namespace icrkit {
 namespace {
 
-// Unit cube [0,1]^3, outward winding. Each side is a quad (a,b,c,d) split
-// along its a-c diagonal into faces 2q (a,b,c) and 2q+1 (a,c,d), in the
-// order -x, +x, -y, +y, -z, +z.
-TriangleMesh unitCube(const Eigen::Vector3d& shift = Eigen::Vector3d::Zero()) {
-  TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i) mesh.vertices.positions.push_back(Eigen::Vector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1) + shift);
-  const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (const auto& q : quads) {
-    mesh.faces.emplace_back(q[0], q[1], q[2]);
-    mesh.faces.emplace_back(q[0], q[2], q[3]);
-  }
-  return mesh;
-}
+using test::unitCube;
 
 Ray makeRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min = 0.0,
             double t_max = std::numeric_limits<double>::infinity()) {

@@ -1,7 +1,11 @@
 #pragma once
 // Helpers shared by the core tests.
 
+#include <icrkit/core/triangle_mesh.hpp>
+
 #include <gtest/gtest.h>
+
+#include <Eigen/Core>
 
 #include <filesystem>
 #include <string>
@@ -11,6 +15,20 @@ namespace icrkit::test {
 /// Path of a file in the shared real-data directory.
 inline std::string sharedData(const std::string& relative) {
   return std::string(ICRKIT_SHARED_DATA_DIR) + "/" + relative;
+}
+
+/// Unit cube [0,1]^3 (shifted), outward winding. Each side is a quad
+/// (a,b,c,d) split along its a-c diagonal into faces 2q (a,b,c) and 2q+1
+/// (a,c,d), in the order -x, +x, -y, +y, -z, +z.
+inline TriangleMesh unitCube(const Eigen::Vector3d& shift = Eigen::Vector3d::Zero()) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i) mesh.vertices.positions.push_back(Eigen::Vector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1) + shift);
+  const int quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (const auto& q : quads) {
+    mesh.faces.emplace_back(q[0], q[1], q[2]);
+    mesh.faces.emplace_back(q[0], q[2], q[3]);
+  }
+  return mesh;
 }
 
 /// A fresh scratch directory, removed with the object.
