@@ -8,8 +8,8 @@
 # Inputs: the bun_zipper points with normals estimated by icrkit (radius 3x
 # the median spacing), and 1M points sampled uniformly on bun_zipper with
 # interpolated vertex normals (bench/sample_mesh_cloud.py, seed 1). The radii
-# are factors of each cloud's median nearest-neighbour spacing; icrkit
-# reports them in metres and Open3D gets exactly those.
+# are icrkit's automatic ones (BUNNY_RADII / MILLION_RADII, e.g. 2x,3x,4.5x,
+# override them); icrkit reports them in metres and Open3D gets exactly those.
 # Open3D is a benchmark-only dependency (Debian python3-open3d for
 # /usr/bin/python3); its BPA runs on one thread, icrkit uses --threads.
 set -euo pipefail
@@ -17,7 +17,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 build="${1:-$here/../build}"
 work="${2:-$build/bench/ball_pivoting}"
 repeat="${3:-3}"
-threads="${ICRKIT_THREADS:-2}"
+threads="${ICRKIT_THREADS:-2}"  # 1 for a one-thread comparison
 icrkit="$build/apps/icrkit/icrkit"
 bunny="$here/../../shared/data/stanford-bunny/bun_zipper.ply"
 mkdir -p "$work"
@@ -29,8 +29,10 @@ mkdir -p "$work"
 run_case() {
   local name="$1" cloud="$2" factors="$3"
   local best=""
+  local radii_option=()
+  [ -z "$factors" ] || radii_option=(--radii "$factors")
   for _ in $(seq "$repeat"); do
-    "$icrkit" mesh "$cloud" -o "$work/$name.icrkit.ply" --radii "$factors" --threads "$threads" --json --quiet >"$work/$name.icrkit.run.json"
+    "$icrkit" mesh "$cloud" -o "$work/$name.icrkit.ply" "${radii_option[@]}" --threads "$threads" --json --quiet >"$work/$name.icrkit.run.json"
     best=$(/usr/bin/python3 - "$work/$name.icrkit.run.json" "$best" <<'PY'
 import json, sys
 t = json.load(open(sys.argv[1]))["time_ms"]["mesh"] / 1000.0
@@ -43,10 +45,11 @@ PY
   local radii
   radii=$(/usr/bin/python3 -c 'import json,sys; print(",".join(repr(r) for r in json.load(open(sys.argv[1]))["radii_m"]))' "$work/$name.icrkit.json")
   "$here/open3d_ball_pivoting.py" "$cloud" --radii "$radii" --repeat "$repeat" >"$work/$name.open3d.json"
-  /usr/bin/python3 - "$name" "$factors" "$best" "$work/$name.icrkit.json" "$work/$name.open3d.json" <<'PY'
+  /usr/bin/python3 - "$name" "$best" "$work/$name.icrkit.json" "$work/$name.open3d.json" <<'PY'
 import json, sys
-name, factors, best = sys.argv[1], sys.argv[2], float(sys.argv[3])
-ours, o3d = json.load(open(sys.argv[4])), json.load(open(sys.argv[5]))
+name, best = sys.argv[1], float(sys.argv[2])
+ours, o3d = json.load(open(sys.argv[3])), json.load(open(sys.argv[4]))
+factors = ', '.join('%.2f' % (r / ours['median_spacing_m']) for r in ours['radii_m'])
 print(f"| {name} | {ours['points']} | {factors} | icrkit | {best:.3f} | {ours['used_points']} | {ours['triangles']} "
       f"| {ours['boundary_edges']} | {ours['boundary_loops']} | {ours['non_manifold_edges']} |")
 print(f"| {name} | {o3d['points']} | {factors} | Open3D {o3d['open3d_version']} | {o3d['time_s']:.3f} | {o3d['used_points']} "
@@ -57,5 +60,5 @@ PY
 
 echo "| cloud | points | radii (x median spacing) | program | time (s) | used points | triangles | boundary edges | boundary loops | non-manifold edges |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
-run_case bun_zipper "$work/bunny.ply" "${BUNNY_RADII:-1.5x,2.5x,4x}"
-run_case bunny_1m "$work/bunny_1m.ply" "${MILLION_RADII:-1.5x,2.5x,4x}"
+run_case bun_zipper "$work/bunny.ply" "${BUNNY_RADII:-}"
+run_case bunny_1m "$work/bunny_1m.ply" "${MILLION_RADII:-}"

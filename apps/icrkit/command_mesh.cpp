@@ -47,6 +47,7 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
     std::vector<double>& target = radii.front().relative ? params.radius_factors : params.radii;
     target.clear();
     for (const Length& r : radii) target.push_back(r.value);
+    params.gap_radius_factor = 0.0;  // the radii given are all there is
   }
   ndt::NormalEstimationParameters normal_params;
   const Length normal_radius = parseLength("--normal-radius", options.normal_radius);
@@ -87,7 +88,8 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
   nlohmann::json passes = nlohmann::json::array();
   std::vector<double> radii_m;
   for (const auto& pass : r.passes) {
-    passes.push_back({{"radius_m", pass.radius}, {"seeds", pass.seeds}, {"triangles", pass.triangles}});
+    passes.push_back(
+        {{"radius_m", pass.radius}, {"seeds", pass.seeds}, {"triangles", pass.triangles}, {"time_ms", pass.time_ms}});
     radii_m.push_back(pass.radius);
   }
   nlohmann::json summary{{"input", options.input},
@@ -134,7 +136,8 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner) {
       ->required();
   command->add_option("--radii", options->radii,
                       "Ball radii, increasing: metres (0.001,0.002) or multiples of the median nearest-neighbour "
-                      "spacing (1.5x,2.5x,4x, the default)");
+                      "spacing (1.5x,2x). Default: 1.5x,2.5x, plus 2.2 times the 90th percentile of the "
+                      "nearest-neighbour distances when that is over 3x (unevenly sampled clouds)");
   command->add_flag("--estimate-normals", options->estimate_normals,
                     "Estimate normals even when the input has some (done anyway when it has none)");
   command

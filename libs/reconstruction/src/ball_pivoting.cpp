@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <deque>
@@ -81,6 +82,7 @@ class BallPivoter {
     int edge = -1, i = -1, j = -1, o = -1, k = -1;
   };
   static constexpr std::size_t kBatch = 4096;
+  static constexpr std::size_t kParallelBatch = 64;
 
 public:
   // Works on a copy of the points in Morton order (`order` lists the input
@@ -103,6 +105,7 @@ public:
 
   void run(const std::vector<double>& radii, BallPivotingReport& report) {
     for (std::size_t r = 0; r < radii.size(); ++r) {
+      const auto start = std::chrono::steady_clock::now();
       rho_ = radii[r];
       // Pivot and seed queries reach at most 2 rho from their centre.
       grid_.build(p_, normals_, duplicate_, 2.0 * rho_);
@@ -122,6 +125,7 @@ public:
         }
       }
       pass.triangles = faces_.size() - faces_before;
+      pass.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
       report.passes.push_back(pass);
     }
   }
@@ -410,12 +414,16 @@ private:
         orientedEdge(edges_[e], item.i, item.j, item.o);
         batch_.push_back(item);
       }
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch_.size(), 64),
-                        [&](const tbb::blocked_range<std::size_t>& range) {
-                          Scratch& scratch = scratch_.local();
-                          for (std::size_t b = range.begin(); b != range.end(); ++b)
-                            batch_[b].k = pivot(batch_[b].i, batch_[b].j, batch_[b].o, scratch).k;
-                        });
+      auto pivotRange = [&](std::size_t begin, std::size_t end) {
+        Scratch& scratch = scratch_.local();
+        for (std::size_t b = begin; b != end; ++b) batch_[b].k = pivot(batch_[b].i, batch_[b].j, batch_[b].o, scratch).k;
+      };
+      // A young front (a fresh seed's three edges) is not worth a task.
+      if (batch_.size() < kParallelBatch)
+        pivotRange(0, batch_.size());
+      else
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, batch_.size(), 32),
+                          [&](const tbb::blocked_range<std::size_t>& range) { pivotRange(range.begin(), range.end()); });
       for (const BatchItem& item : batch_)
         if (edges_[item.edge].faceCount() == 1) apply(item.i, item.j, item.k);
     }
@@ -456,7 +464,24 @@ void validateInput(const PointCloud& cloud) {
   }
 }
 
-std::vector<double> radiiFor(const BallPivotingParameters& params, double spacing) {
+// The spacing statistics the automatic radii use.
+struct Spacing {
+  double median = 0.0;  // of the nearest-neighbour distances
+  double p90 = 0.0;     // their 90th percentile
+};
+
+Spacing spacingOf(std::vector<double> nearest) {
+  Spacing s;
+  if (nearest.size() < 2) return s;
+  s.median = spacingStatistics(nearest).median;
+  const auto at = nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() * 9 / 10);
+  std::nth_element(nearest.begin(), at, nearest.end());
+  s.p90 = *at;
+  return s;
+}
+
+std::vector<double> radiiFor(const BallPivotingParameters& params, const Spacing& spacing_stats) {
+  const double spacing = spacing_stats.median;
   std::vector<double> radii = params.radii;
   if (radii.empty()) {
     if (params.radius_factors.empty())
@@ -470,6 +495,8 @@ std::vector<double> radiiFor(const BallPivotingParameters& params, double spacin
         throw InputError("--radii", "", "a radius factor must be finite and > 0, got " + std::to_string(f));
       radii.push_back(f * spacing);
     }
+    const double gap = params.gap_radius_factor * spacing_stats.p90;
+    if (params.gap_radius_factor > 0.0 && std::isfinite(gap) && gap > 3.0 * spacing) radii.push_back(gap);
   }
   for (double r : radii)
     if (!std::isfinite(r) || !(r > 0.0))
@@ -482,7 +509,7 @@ std::vector<double> radiiFor(const BallPivotingParameters& params, double spacin
 }  // namespace
 
 std::vector<double> ballPivotingRadii(const PointCloud& cloud, const BallPivotingParameters& params) {
-  return radiiFor(params, params.radii.empty() ? nearestNeighbourSpacing(cloud.positions).median : 0.0);
+  return radiiFor(params, params.radii.empty() ? spacingOf(nearestNeighbourDistances(cloud.positions)) : Spacing{});
 }
 
 BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParameters& params) {
@@ -492,8 +519,9 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   if (duplicate_distance < 0.0) duplicate_distance = 1e-9 * cloud.bounds().diagonal().norm();
   BallPivoter pivoter(cloud, mortonOrder(cloud.positions), params);
   const std::vector<double> nearest = nearestNeighbourDistances(pivoter.positions());
-  const double spacing = spacingStatistics(nearest).median;
-  const std::vector<double> radii = radiiFor(params, spacing);
+  const Spacing spacing_stats = spacingOf(nearest);
+  const double spacing = spacing_stats.median;
+  const std::vector<double> radii = radiiFor(params, spacing_stats);
 
   BallPivotingResult result;
   BallPivotingReport& report = result.report;

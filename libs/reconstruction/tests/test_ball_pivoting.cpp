@@ -5,6 +5,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/mesh_distance.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/mesh_topology.hpp>
@@ -41,6 +42,25 @@ std::size_t facesAgainstNormals(const TriangleMesh& mesh) {
     if (fn.dot(n[f[0]] + n[f[1]] + n[f[2]]) <= 0.0) ++against;
   }
   return against;
+}
+
+// The mesh without the vertices no face uses.
+TriangleMesh surfaceOnly(const TriangleMesh& mesh) {
+  std::vector<int> index(mesh.vertexCount(), -1);
+  TriangleMesh out;
+  for (const Triangle& f : mesh.faces) {
+    Triangle g;
+    for (int k = 0; k < 3; ++k) {
+      int& i = index[static_cast<std::size_t>(f[k])];
+      if (i < 0) {
+        i = static_cast<int>(out.vertices.positions.size());
+        out.vertices.positions.push_back(mesh.vertices.positions[static_cast<std::size_t>(f[k])]);
+      }
+      g[k] = i;
+    }
+    out.faces.push_back(g);
+  }
+  return out;
 }
 
 void expectWellFormed(const BallPivotingResult& r) {
@@ -146,6 +166,42 @@ TEST(BallPivoting, DeterministicAndKeepsInputPointsAsVertices) {
   EXPECT_EQ(a.mesh.vertices.attributes.get("cardinality").values[17], 17.0);
 }
 
+TEST(BallPivoting, AutomaticRadiiFollowTheSampling) {
+  // Even (blue-noise) sampling: 1.5 and 2.5 median spacings.
+  const PointCloud even = test::sampleSphere(0.05, 0.003, 9);
+  const BallPivotingResult r = ballPivoting(even);
+  ASSERT_EQ(r.report.passes.size(), 2u);
+  EXPECT_NEAR(r.report.passes[0].radius, 1.5 * r.report.median_spacing, 1e-15);
+  EXPECT_NEAR(r.report.passes[1].radius, 2.5 * r.report.median_spacing, 1e-15);
+  EXPECT_EQ(ballPivotingRadii(even, {}).size(), 2u);
+  // Uniform random sampling has clumps and gaps: the 90th percentile of
+  // the nearest-neighbour distance is about 1.8 medians, so a third radius
+  // of 2.2 times it (about 4 spacings) joins.
+  PointCloud random;
+  std::mt19937_64 rng(2);
+  std::normal_distribution<double> g(0.0, 1.0);
+  while (random.size() < 3000) {
+    Eigen::Vector3d d(g(rng), g(rng), g(rng));
+    if (d.norm() < 1e-9) continue;
+    random.positions.push_back(0.05 * d.normalized());
+    random.normals.push_back(d.normalized());
+  }
+  const std::vector<double> radii = ballPivotingRadii(random, {});
+  const double spacing = nearestNeighbourSpacing(random.positions).median;
+  ASSERT_EQ(radii.size(), 3u);
+  EXPECT_GT(radii[2], 3.5 * spacing);
+  EXPECT_LT(radii[2], 4.5 * spacing);
+  const BallPivotingResult closed = ballPivoting(random);
+  expectWellFormed(closed);
+  EXPECT_EQ(closed.report.used_points, random.size());
+  EXPECT_EQ(closed.report.components, 1u);
+  // Given factors are all there is.
+  BallPivotingParameters given;
+  given.radius_factors = {2.0};
+  given.gap_radius_factor = 0.0;
+  EXPECT_EQ(ballPivotingRadii(random, given), std::vector<double>{2.0 * spacing});
+}
+
 TEST(BallPivoting, BadInput) {
   PointCloud two;
   two.positions = {{0, 0, 0}, {1, 0, 0}};
@@ -229,6 +285,16 @@ TEST(BallPivotingRealData, BunnyZipperPointsRemeshed) {
   // 1113 of the zippered mesh's vertices belong to no face; they are still
   // scan points on the surface and count like any other.
   EXPECT_GE(static_cast<double>(rep.used_points), 0.99 * static_cast<double>(rep.points));
+  // Surface against surface: the points no face uses (in either mesh) are
+  // left out, they are no part of a surface.
+  const MeshDistanceStatistics there = meshDistance(surfaceOnly(r.mesh), surfaceOnly(original));
+  const MeshDistanceStatistics back = meshDistance(surfaceOnly(original), surfaceOnly(r.mesh));
+  std::cout << "remeshed -> original: max " << there.max * 1e3 << " mm, mean " << there.mean * 1e3
+            << " mm; original -> remeshed: max " << back.max * 1e3 << " mm, mean " << back.mean * 1e3 << " mm\n";
+  const double hausdorff = hausdorffDistance(surfaceOnly(r.mesh), surfaceOnly(original));
+  std::cout << "bun_zipper: symmetric Hausdorff distance " << hausdorff * 1e3 << " mm, median spacing "
+            << rep.median_spacing * 1e3 << " mm\n";
+  EXPECT_LE(hausdorff, 2.0 * rep.median_spacing);
   // The original has 5 holes; the report lists the extra loops (22 in
   // total when this was written: small gaps around stray zippering points).
   EXPECT_LE(rep.boundary_loops, original_loops + 25);

@@ -21,11 +21,16 @@ struct BallPivotingParameters {
   /// nearest-neighbour spacing of the points. Sorted ascending and made
   /// unique before use; each must be finite and > 0.
   std::vector<double> radii;
-  /// Used when `radii` is empty. Chosen on the bun_zipper vertices, the raw
-  /// scan bun000 and 1M uniform random samples of the bunny (see
-  /// docs/meshing.md): a smallest ball of 1.5 spacings follows the detail,
-  /// 4 spacings closes the gaps of random sampling without bridging much.
-  std::vector<double> radius_factors = {1.5, 2.5, 4.0};
+  /// Used when `radii` is empty: radii = factor x the median
+  /// nearest-neighbour spacing. The defaults follow the detail of an evenly
+  /// sampled surface (a scanner's grid, a mesh's vertices) and close its
+  /// gaps without capping real holes (see docs/meshing.md).
+  std::vector<double> radius_factors = {1.5, 2.5};
+  /// With automatic radii, one more radius of this factor x the 90th
+  /// percentile of the nearest-neighbour distances is added when it exceeds
+  /// 3 median spacings: unevenly sampled clouds (random samples, scans with
+  /// sparse parts) have gaps several spacings wide. 0 = never.
+  double gap_radius_factor = 2.2;
   /// Points closer than this to an earlier point (metres) are duplicates:
   /// only the first one of each group can become a vertex, the others are
   /// reported as unused. Negative: 1e-9 times the bounding-box diagonal.
@@ -46,6 +51,7 @@ struct BallPivotingPass {
   double radius = 0.0;             ///< metres
   std::size_t seeds = 0;           ///< seed triangles found with this radius
   std::size_t triangles = 0;       ///< triangles added with this radius (seeds included)
+  double time_ms = 0.0;            ///< wall-clock time of this radius
 };
 
 struct BallPivotingReport {
