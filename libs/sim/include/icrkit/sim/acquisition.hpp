@@ -1,0 +1,88 @@
+#pragma once
+/// \file
+/// The paper's two acquisition setups (Krug et al., Section II-A) as camera
+/// trajectories in the object frame, the static scene each one shows, and
+/// the errors of the camera poses a robot reports.
+///
+/// - Setup A: a SwissRanger SR4000 on an industrial arm moves around the
+///   object on a partial sphere; the object stands fixed on a table at the
+///   workspace centre.
+/// - Setup B: a fixed Kinect looks at the object, which sits on a
+///   checkerboard-textured support on the arm's flange and is turned about
+///   the flange's (vertical) axis. In the object frame this is a camera on a
+///   circle around the z axis, the support turning with the object.
+///
+/// Poses are those of the camera's optical frame (x right, y down, z
+/// forward) in the object frame (z up, object standing on z = 0).
+
+#include <icrkit/core/triangle_mesh.hpp>
+#include <icrkit/sim/range_sensor.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace icrkit::sim {
+
+enum class Setup { A, B };
+
+/// "A" or "B" (either case). Throws InputError("--setup", ...) otherwise.
+Setup parseSetup(const std::string& name);
+std::string setupName(Setup setup);
+
+/// Errors of the camera pose the robot reports, relative to the true one.
+/// Defaults: an industrial arm's pose repeatability and a careful hand-eye
+/// calibration (sources in docs/rawlog.md).
+struct PoseErrorModel {
+  double noise_translation = 0.0003;   ///< m, sigma per axis, independent per view (arm repeatability and backlash)
+  double noise_rotation = 0.0005;      ///< rad, sigma per axis, independent per view
+  double hand_eye_translation = 0.002; ///< m, length of the fixed camera-mount offset (direction from the seed)
+  double hand_eye_rotation = 0.003;    ///< rad, angle of the fixed camera-mount rotation error (axis from the seed)
+  double drift_translation = 0.00005;  ///< m per view, along a fixed direction (thermal drift of the arm)
+  double drift_rotation = 0.00005;     ///< rad per view, about a fixed axis
+};
+
+/// No error at all: the reported poses are the true ones.
+PoseErrorModel perfectPoses();
+
+struct AcquisitionParameters {
+  Setup setup = Setup::B;
+  int views = 36;
+  /// Distance from the camera to the object's bounding-box centre (m);
+  /// <= 0: the setup's default (A: 0.7 m, B: 1.0 m, inside both sensors'
+  /// ranges with the object filling a good part of the image).
+  double distance = 0.0;
+  /// Setup A: the partial sphere spans these elevations (radians above the
+  /// horizontal plane through the object's centre), views on a spiral.
+  double min_elevation = 0.15, max_elevation = 0.9;
+  /// Setup B: the camera's fixed elevation (radians).
+  double elevation = 0.45;
+  PoseErrorModel errors;
+  std::uint64_t seed = 1;
+};
+
+struct View {
+  Eigen::Isometry3d true_camera = Eigen::Isometry3d::Identity();      ///< optical frame in the object frame
+  Eigen::Isometry3d reported_camera = Eigen::Isometry3d::Identity();  ///< what the robot reports
+  double timestamp = 0.0;  ///< seconds since the first view
+};
+
+/// The views of a setup around an object with the given bounds
+/// (object frame), deterministic for the seed. Throws InputError for
+/// views <= 0 or a non-finite or negative distance.
+std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::AlignedBox3d& object_bounds);
+
+/// The scene a setup's sensor sees: the object plus the setup's fixtures
+/// (A: a table top under the object; B: the support plate with its
+/// checkerboard and the post to the flange), all in the object frame, and
+/// the appearance of each face (colour, near-infrared reflectivity).
+struct Scene {
+  TriangleMesh mesh;
+  std::size_t object_faces = 0;  ///< faces [0, object_faces) are the object's
+  SceneAppearance appearance;
+};
+Scene buildScene(const TriangleMesh& object, Setup setup);
+
+}  // namespace icrkit::sim
