@@ -18,5 +18,7 @@ void addIcrCommand(CLI::App& app, CommandRunner& runner);
 void addGraspsCommand(CLI::App& app, CommandRunner& runner);
 void addSmoothCommand(CLI::App& app, CommandRunner& runner);
 void addMeshCommand(CLI::App& app, CommandRunner& runner);
+void addSimulateCommand(CLI::App& app, CommandRunner& runner);
+void addDatasetsCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

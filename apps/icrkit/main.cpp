@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
   addGraspsCommand(app, runner);
   addSmoothCommand(app, runner);
   addMeshCommand(app, runner);
+  addSimulateCommand(app, runner);
+  addDatasetsCommand(app, runner);
 
   try {
     app.parse(argc, argv);

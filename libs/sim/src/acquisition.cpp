@@ -108,7 +108,7 @@ std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::Al
   if (!std::isfinite(params.distance) || params.distance < 0)
     throw InputError("--distance", "", "expected a finite distance >= 0 m (0: the setup's default)");
   if (object_bounds.isEmpty()) throw InputError("object", "", "the object has no vertices");
-  const double distance = params.distance > 0 ? params.distance : (params.setup == Setup::A ? 0.7 : 1.0);
+  const double distance = params.distance > 0 ? params.distance : (params.setup == Setup::A ? 0.6 : 0.7);
   const Eigen::Vector3d centre = object_bounds.center();
 
   // Fixed errors first, then per-view ones, all from one seeded stream in a

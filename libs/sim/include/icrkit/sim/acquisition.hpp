@@ -51,7 +51,7 @@ struct AcquisitionParameters {
   Setup setup = Setup::B;
   int views = 36;
   /// Distance from the camera to the object's bounding-box centre (m);
-  /// <= 0: the setup's default (A: 0.7 m, B: 1.0 m, inside both sensors'
+  /// <= 0: the setup's default (A: 0.6 m, B: 0.7 m, inside both sensors'
   /// ranges with the object filling a good part of the image).
   double distance = 0.0;
   /// Setup A: the partial sphere spans these elevations (radians above the
