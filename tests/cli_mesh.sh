@@ -128,7 +128,7 @@ expect_input_error "--radii.*expected metres" "$ICRKIT" mesh "$sphere" -o "$work
 expect_input_error "--radii.*in metres or all as multiples" "$ICRKIT" mesh "$sphere" -o "$work/bad.ply" --radii 2x,0.004
 expect_input_error "--viewpoint" "$ICRKIT" mesh "$sphere" -o "$work/bad.ply" --viewpoint 1,2
 expect_input_error "two.ply.*at least 3 points" "$ICRKIT" mesh "$work/two.ply" -o "$work/bad.ply"
-expect_input_error "zero_normal.ply.*point 1.*normal" "$ICRKIT" mesh "$work/zero_normal.ply" -o "$work/bad.ply"
+expect_input_error "zero_normal.ply.*at least 3 points with a non-zero normal" "$ICRKIT" mesh "$work/zero_normal.ply" -o "$work/bad.ply"
 expect_input_error "missing.ply" "$ICRKIT" mesh "$work/missing.ply" -o "$work/bad.ply"
 expect_input_error "bad.json" "$ICRKIT" mesh "$sphere" -o "$work/bad.json"
 [ ! -e "$work/bad.ply" ] && [ ! -e "$work/bad.json" ] || fail "a failed mesh left an output behind"

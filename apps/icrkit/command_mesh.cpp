@@ -104,6 +104,7 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
                          {"used_points", r.used_points},
                          {"unused_points", r.unused_points},
                          {"duplicate_points", r.duplicate_points},
+                         {"unoriented_points", r.unoriented_points},
                          {"boundary_edges", r.boundary_edges},
                          {"closed_holes", r.closed_holes},
                          {"boundary_loops", r.boundary_loops},

@@ -93,22 +93,33 @@ public:
     const std::size_t n = order_.size();
     p_.resize(n);
     normals_.resize(n);
+    skipped_.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
       p_[i] = cloud.positions[order_[i]];
-      normals_[i] = cloud.normals[order_[i]].normalized();
+      const Vector3d& normal = cloud.normals[order_[i]];
+      // A point without a normal (a window too small for a plane fit, say)
+      // has no side for the ball to stay on: it takes no part.
+      if (normal.squaredNorm() > 0.0) {
+        normals_[i] = normal.normalized();
+      } else {
+        normals_[i].setZero();
+        skipped_[i] = 1;
+        ++unoriented_;
+      }
     }
     used_.assign(n, 0);
     open_edges_.assign(n, 0);
     vertex_edges_.resize(n);
-    duplicate_.assign(n, 0);
   }
+
+  std::size_t unorientedPoints() const { return unoriented_; }
 
   void run(const std::vector<double>& radii, BallPivotingReport& report) {
     for (std::size_t r = 0; r < radii.size(); ++r) {
       const auto start = std::chrono::steady_clock::now();
       rho_ = radii[r];
       // Pivot and seed queries reach at most 2 rho from their centre.
-      grid_.build(p_, normals_, duplicate_, 2.0 * rho_);
+      grid_.build(p_, normals_, skipped_, 2.0 * rho_);
       BallPivotingPass pass;
       pass.radius = rho_;
       const std::size_t faces_before = faces_.size();
@@ -118,7 +129,7 @@ public:
           if (edges_[e].faceCount() == 1) front_.push_back(static_cast<int>(e));
       expandFront();
       for (std::size_t v = 0; v < p_.size(); ++v) {
-        if (used_[v] || duplicate_[v]) continue;
+        if (used_[v] || skipped_[v]) continue;
         if (findSeed(static_cast<int>(v))) {
           ++pass.seeds;
           expandFront();
@@ -132,8 +143,8 @@ public:
 
   const std::vector<Vector3d>& positions() const { return p_; }
 
-  // Marks every point that lies within `distance` of a point with a smaller
-  // input index; `nearest` holds each point's nearest-neighbour distance, so
+  // Marks every point that lies within `distance` of a point with a normal
+  // and a smaller input index; `nearest` holds each point's nearest-neighbour distance, so
   // only the few points with a close neighbour are looked at.
   std::size_t markDuplicates(const std::vector<double>& nearest, double distance) {
     // Both points of a duplicate pair have a neighbour that close: only
@@ -145,10 +156,15 @@ public:
     const PointGrid grid(p_, {}, far, std::max(distance, 1e-300));
     for (std::size_t i = 0; i < p_.size(); ++i) {
       if (far[i]) continue;
+      // The group's representative is its first point that has a normal.
+      bool duplicate = false;
       grid.forEachWithin(p_[i], distance, [&](const PointGrid::Entry& q, double) {
-        if (order_[q.index] < order_[i]) duplicate_[i] = 1;
+        if (order_[q.index] < order_[i] && normals_[q.index].squaredNorm() > 0.0) duplicate = true;
       });
-      count += duplicate_[i];
+      if (duplicate && !skipped_[i]) {
+        skipped_[i] = 1;
+        ++count;
+      }
     }
     return count;
   }
@@ -436,7 +452,8 @@ private:
   const BallPivotingParameters& params_;
   double rho_ = 0.0;
 
-  std::vector<std::uint8_t> used_, duplicate_;
+  std::vector<std::uint8_t> used_, skipped_;  // skipped: duplicates and points without a normal
+  std::size_t unoriented_ = 0;
   std::vector<int> open_edges_;           // per vertex: incident edges with one face
   std::vector<std::vector<int>> vertex_edges_;  // per vertex: edges whose smaller end it is
   std::vector<Edge> edges_;
@@ -454,14 +471,17 @@ void validateInput(const PointCloud& cloud) {
     throw InputError("point cloud", "", "ball pivoting needs at least 3 points, got " + std::to_string(cloud.size()));
   if (!cloud.hasNormals())
     throw InputError("point cloud", "", "ball pivoting needs oriented normals (nx, ny, nz); the cloud has none");
-  for (std::size_t i = 0; i < cloud.size(); ++i)
+  std::size_t oriented = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud.positions[i].allFinite())
       throw InputError("point cloud", "point " + std::to_string(i), "non-finite coordinate, expected finite x, y, z");
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Vector3d& n = cloud.normals[i];
-    if (!n.allFinite() || !(n.squaredNorm() > 0.0))
-      throw InputError("point cloud", "point " + std::to_string(i), "the normal must be finite and non-zero");
+    if (!n.allFinite()) throw InputError("point cloud", "point " + std::to_string(i), "the normal must be finite");
+    oriented += n.squaredNorm() > 0.0;
   }
+  if (oriented < 3)
+    throw InputError("point cloud", "",
+                     "ball pivoting needs at least 3 points with a non-zero normal, got " + std::to_string(oriented));
 }
 
 // The spacing statistics the automatic radii use.
@@ -529,6 +549,7 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   report.median_spacing = spacing;
 
   report.duplicate_points = pivoter.markDuplicates(nearest, duplicate_distance);
+  report.unoriented_points = pivoter.unorientedPoints();
   pivoter.run(radii, report);
   report.closed_holes = pivoter.closeSmallHoles(params.close_holes_up_to);
   pivoter.summarise(report);

@@ -223,14 +223,32 @@ TEST(BallPivoting, BadInput) {
   PointCloud nan = cloud;
   nan.positions[1].x() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(ballPivoting(nan, params), InputError);
-  PointCloud zero_normal = cloud;
-  zero_normal.normals[2].setZero();
+  PointCloud nan_normal = cloud;
+  nan_normal.normals[2].x() = std::numeric_limits<double>::quiet_NaN();
   try {
-    ballPivoting(zero_normal, params);
-    ADD_FAILURE() << "zero normal accepted";
+    ballPivoting(nan_normal, params);
+    ADD_FAILURE() << "NaN normal accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("point 2"), std::string::npos) << e.what();
   }
+  PointCloud zero_normals = cloud;
+  zero_normals.normals[2].setZero();
+  EXPECT_THROW(ballPivoting(zero_normals, params), InputError);  // fewer than 3 with a normal
+}
+
+TEST(BallPivoting, PointsWithoutNormalsAreLeftOut) {
+  PointCloud cloud = test::sampleSphere(0.05, 0.003, 4);
+  const std::size_t n = cloud.size();
+  // Extra points near the surface with zero normals: ignored, reported.
+  for (std::size_t i = 0; i < n; i += 7) {
+    cloud.positions.push_back(cloud.positions[i] * 1.0005);
+    cloud.normals.push_back(Eigen::Vector3d::Zero());
+  }
+  const BallPivotingResult r = ballPivoting(cloud);
+  expectWellFormed(r);
+  EXPECT_EQ(r.report.unoriented_points, cloud.size() - n);
+  EXPECT_EQ(r.report.used_points, n);
+  EXPECT_EQ(r.report.boundary_edges, 0u);
 }
 
 TEST(BallPivoting, DuplicatePointsAreReportedUnused) {

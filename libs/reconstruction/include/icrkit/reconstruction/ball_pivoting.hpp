@@ -62,6 +62,7 @@ struct BallPivotingReport {
   std::size_t used_points = 0;        ///< points referenced by at least one triangle
   std::size_t unused_points = 0;      ///< points no triangle references (kept as vertices)
   std::size_t duplicate_points = 0;   ///< of the unused ones: duplicates of an earlier point
+  std::size_t unoriented_points = 0;  ///< of the unused ones: points whose normal is zero
   std::size_t closed_holes = 0;        ///< small loops closed after the last radius
   std::size_t boundary_edges = 0;
   std::size_t boundary_loops = 0;
@@ -78,10 +79,12 @@ struct BallPivotingResult {
   BallPivotingReport report;
 };
 
-/// Meshes an oriented point cloud. Requires at least three points, a
-/// non-zero normal per point (they need not be unit length) and finite
-/// coordinates; throws InputError naming "point cloud" and the offending
-/// point, or the parameter ("--radii"), otherwise.
+/// Meshes an oriented point cloud. Requires finite coordinates, a finite
+/// normal per point (not necessarily unit length) and at least three
+/// points with a non-zero one; throws InputError naming "point cloud" and
+/// the offending point, or the parameter ("--radii"), otherwise. Points
+/// whose normal is zero (e.g. where a plane fit had too few neighbours)
+/// take no part and are reported as unoriented.
 /// Single-threaded and deterministic: the same input gives the same mesh.
 BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParameters& params = {});
 
