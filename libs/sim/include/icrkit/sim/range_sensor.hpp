@@ -9,6 +9,7 @@
 /// when a scan is written to a rawlog. Pixel (column u, row v) has its centre
 /// at image coordinates (u, v): OpenCV's convention.
 
+#include <icrkit/core/camera_intrinsics.hpp>
 #include <icrkit/core/point_cloud.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
@@ -28,12 +29,7 @@ enum class SensorType { Kinect, Sr4000 };
 SensorType parseSensorType(const std::string& name);
 std::string sensorTypeName(SensorType type);
 
-/// Pinhole intrinsics with OpenCV's (Brown-Conrady) distortion k1, k2, p1, p2, k3.
-struct CameraIntrinsics {
-  int width = 0, height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;  ///< pixels
-  std::array<double, 5> distortion{};     ///< k1, k2, p1, p2, k3 (normalised image coordinates)
-};
+using icrkit::CameraIntrinsics;  // core/camera_intrinsics.hpp
 
 /// Every number of a sensor model; the factory functions fill realistic,
 /// documented defaults (docs/sensors.md). Units: metres, radians, pixels.
