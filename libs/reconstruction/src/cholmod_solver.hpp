@@ -25,6 +25,11 @@ public:
   /// The value array matching `row_index`, to fill before `factorise`.
   double* values();
   std::size_t nonzeros() const;
+  /// Whether CHOLMOD chose a supernodal factor (large, dense-ish fill) over
+  /// a simplicial one (CHOLMOD_AUTO decides from the analysis).
+  bool supernodal() const { return factor_ && factor_->is_super; }
+  /// Non-zeros of the factor L after the analysis.
+  double factorNonzeros() const { return common_.lnz; }
 
   /// Numeric LL^T factorisation of the current values; false when the
   /// matrix is not positive definite.

@@ -190,6 +190,8 @@ public:
   }
 
   std::size_t nonzeros() const { return solver_.nonzeros(); }
+  bool supernodal() const { return solver_.supernodal(); }
+  double factorNonzeros() const { return solver_.factorNonzeros(); }
 
   void linearise(const std::vector<Isometry3d>& poses, const Kernel& kernel, std::vector<double>& weights) {
     double* h = solver_.values();
@@ -347,6 +349,7 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
   if (free_count > 0) {
     NormalEquations normal(graph, free_index, free_count);
     report.nonzeros = normal.nonzeros();
+    report.factor_nonzeros = static_cast<std::size_t>(normal.factorNonzeros());
     std::vector<double> delta;
     std::vector<Isometry3d> candidate(n);
     // One Levenberg-Marquardt (or Gauss-Newton) run with a given kernel,
@@ -424,6 +427,7 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
     }
     report.converged = run(kernel);
     cost = evaluate(graph, result.poses, kernel);
+    report.supernodal = normal.supernodal();
     // Weights as seen at the returned poses.
     for (std::size_t e = 0; e < graph.edges.size(); ++e) {
       const PoseGraphEdge& edge = graph.edges[e];

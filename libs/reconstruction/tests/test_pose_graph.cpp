@@ -222,9 +222,8 @@ TEST(PoseGraph, DriftingTurntableChainRecoversTheTruth) {
   EXPECT_LT(versus_reference.max_translation, 0.003);
   EXPECT_LT(versus_reference.max_rotation, 0.5 * kDeg);
   EXPECT_TRUE(result.report.converged);
-  // Chi2 of 35 6-DoF odometry edges plus a loop closure near its
-  // expectation (216 degrees of freedom minus 210 unknowns... the drift
-  // makes it a little larger).
+  // The noise alone gives chi2 ~ 38 here (1 mm against sigma 2 mm, 0.1 deg
+  // against 0.3 deg, 35 edges), minus what the 35 free poses absorb.
   EXPECT_LT(result.report.final_chi2, 300.0);
 }
 
@@ -299,37 +298,41 @@ TEST(PoseGraph, IsDeterministic) {
 }
 
 TEST(PoseGraph, LargerGraphSpeed) {
-  // A 2000-node random walk with a loop closure to the node 50 back every
-  // 25 nodes: a sparse, long-chain problem like a multi-sequence scan set.
-  std::mt19937 rng(1);
-  const std::size_t n = 2000;
-  std::vector<Isometry3d> truth = {Isometry3d::Identity()};
-  for (std::size_t k = 1; k < n; ++k) truth.push_back(truth.back() * randomPose(rng, 0.2, 0.1));
-  PoseGraph graph;
-  graph.poses.push_back(truth[0]);
-  auto add = [&](std::size_t i, std::size_t j) {
-    PoseGraphEdge e;
-    e.from = i;
-    e.to = j;
-    e.measurement = truth[i].inverse() * truth[j] * noisePose(rng, 0.002, 0.2 * kDeg);
-    e.information = poseGraphInformation(0.002, 0.2 * kDeg);
-    graph.edges.push_back(e);
-  };
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    add(k, k + 1);
-    graph.poses.push_back(graph.poses.back() * graph.edges.back().measurement);
+  // Random walks with a loop closure to the node 50 back every 25 nodes:
+  // sparse, long-chain problems like a multi-sequence scan set.
+  for (const std::size_t n : {std::size_t{2000}, std::size_t{10000}}) {
+    std::mt19937 rng(1);
+    std::vector<Isometry3d> truth = {Isometry3d::Identity()};
+    for (std::size_t k = 1; k < n; ++k) truth.push_back(truth.back() * randomPose(rng, 0.2, 0.1));
+    PoseGraph graph;
+    graph.poses.push_back(truth[0]);
+    auto add = [&](std::size_t i, std::size_t j) {
+      PoseGraphEdge e;
+      e.from = i;
+      e.to = j;
+      e.measurement = truth[i].inverse() * truth[j] * noisePose(rng, 0.002, 0.2 * kDeg);
+      e.information = poseGraphInformation(0.002, 0.2 * kDeg);
+      graph.edges.push_back(e);
+    };
+    for (std::size_t k = 0; k + 1 < n; ++k) {
+      add(k, k + 1);
+      graph.poses.push_back(graph.poses.back() * graph.edges.back().measurement);
+    }
+    for (std::size_t k = 50; k < n; k += 25) add(k, k - 50);
+    const PoseGraphResult result = optimisePoseGraph(graph);
+    const Errors before = poseErrors(graph.poses, truth), after = poseErrors(result.poses, truth);
+    std::cout << n << " nodes, " << graph.edges.size() << " edges: " << result.report.iterations << " iterations ("
+              << result.report.accepted_steps << " accepted), "
+              << result.report.time_ms << " ms, nnz(H upper) " << result.report.nonzeros << ", nnz(L) "
+              << result.report.factor_nonzeros << (result.report.supernodal ? " supernodal" : " simplicial")
+              << ", chi2 " << result.report.initial_chi2 << " -> " << result.report.final_chi2 << ", max error "
+              << before.max_translation << " -> " << after.max_translation << " m\n";
+    EXPECT_TRUE(result.report.converged);
+    EXPECT_LT(after.max_translation, before.max_translation);
+    // Near the chi2 expectation: 6 x (edges - free nodes) = 6 x (n / 25 - 1).
+    const double dof = 6.0 * static_cast<double>(graph.edges.size() - (n - 1));
+    EXPECT_LT(result.report.final_chi2, 1.5 * dof);
   }
-  for (std::size_t k = 50; k < n; k += 25) add(k, k - 50);
-  const PoseGraphResult result = optimisePoseGraph(graph);
-  const Errors before = poseErrors(graph.poses, truth), after = poseErrors(result.poses, truth);
-  std::cout << "2000 nodes, " << graph.edges.size() << " edges: " << result.report.iterations << " iterations, "
-            << result.report.time_ms << " ms, nnz(H upper) " << result.report.nonzeros << ", chi2 "
-            << result.report.initial_chi2 << " -> " << result.report.final_chi2 << ", max error "
-            << before.max_translation << " -> " << after.max_translation << " m\n";
-  EXPECT_TRUE(result.report.converged);
-  EXPECT_LT(after.max_translation, before.max_translation);
-  // Near the chi2 expectation (6 x edges - 6 x free nodes = 474).
-  EXPECT_LT(result.report.final_chi2, 700.0);
 }
 
 PoseGraph smallGraph() {

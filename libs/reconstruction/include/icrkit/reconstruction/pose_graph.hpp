@@ -93,6 +93,8 @@ struct PoseGraphReport {
   bool converged = false;       ///< a tolerance was met (not the iteration limit)
   std::size_t free_nodes = 0;
   std::size_t nonzeros = 0;     ///< stored entries of the upper triangle of H
+  std::size_t factor_nonzeros = 0;  ///< entries of the Cholesky factor (fill-reducing order applied)
+  bool supernodal = false;      ///< CHOLMOD's choice of factor type
   double time_ms = 0.0;         ///< wall-clock time, setup included
   /// Per edge, the final robust weight (1 = full; < 1 down-weighted).
   std::vector<double> edge_weights;
