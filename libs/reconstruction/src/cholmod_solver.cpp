@@ -48,9 +48,13 @@ void CholmodSolver::analyse(int n, const std::vector<int>& column_start, const s
   if (!rhs_) fail("allocate_dense", common_);
 }
 
-double* CholmodSolver::values() { return static_cast<double*>(matrix_->x); }
+double* CholmodSolver::values() {
+  return static_cast<double*>(matrix_->x);
+}
 
-std::size_t CholmodSolver::nonzeros() const { return matrix_ ? cholmod_nnz(matrix_, const_cast<cholmod_common*>(&common_)) : 0; }
+std::size_t CholmodSolver::nonzeros() const {
+  return matrix_ ? cholmod_nnz(matrix_, const_cast<cholmod_common*>(&common_)) : 0;
+}
 
 bool CholmodSolver::factorise() {
   // A failed (not positive definite) factorisation leaves the factor in a

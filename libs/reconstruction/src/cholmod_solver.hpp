@@ -11,7 +11,7 @@
 namespace icrkit::reconstruction {
 
 class CholmodSolver {
-public:
+ public:
   CholmodSolver();
   ~CholmodSolver();
   CholmodSolver(const CholmodSolver&) = delete;
@@ -38,7 +38,7 @@ public:
   /// Solves A x = rhs with the last factorisation (x may alias nothing).
   void solve(const std::vector<double>& rhs, std::vector<double>& x);
 
-private:
+ private:
   void release();
 
   cholmod_common common_;

@@ -81,17 +81,23 @@ struct Kernel {
   // (the IRLS weight).
   double cost(double s) const {
     switch (type) {
-      case RobustKernel::Huber: return s <= width2 ? s : 2.0 * std::sqrt(s * width2) - width2;
-      case RobustKernel::Cauchy: return width2 * std::log1p(s / width2);
-      case RobustKernel::None: break;
+      case RobustKernel::Huber:
+        return s <= width2 ? s : 2.0 * std::sqrt(s * width2) - width2;
+      case RobustKernel::Cauchy:
+        return width2 * std::log1p(s / width2);
+      case RobustKernel::None:
+        break;
     }
     return s;
   }
   double weight(double s) const {
     switch (type) {
-      case RobustKernel::Huber: return s <= width2 ? 1.0 : std::sqrt(width2 / s);
-      case RobustKernel::Cauchy: return 1.0 / (1.0 + s / width2);
-      case RobustKernel::None: break;
+      case RobustKernel::Huber:
+        return s <= width2 ? 1.0 : std::sqrt(width2 / s);
+      case RobustKernel::Cauchy:
+        return 1.0 / (1.0 + s / width2);
+      case RobustKernel::None:
+        break;
     }
     return 1.0;
   }
@@ -115,7 +121,8 @@ void validate(const PoseGraph& graph, const PoseGraphParameters& params) {
     Eigen::LLT<Matrix6d> llt(info);
     if (llt.info() != Eigen::Success) fail(where, "the information matrix is not positive definite");
   }
-  if (graph.fixed.empty()) fail("", "no fixed node: at least one pose must be held (a pose graph only fixes relative poses)");
+  if (graph.fixed.empty())
+    fail("", "no fixed node: at least one pose must be held (a pose graph only fixes relative poses)");
   for (std::size_t f : graph.fixed)
     if (f >= n) fail("fixed node " + std::to_string(f), "out of range, the graph has " + std::to_string(n) + " nodes");
 
@@ -151,7 +158,7 @@ void validate(const PoseGraph& graph, const PoseGraphParameters& params) {
 // The normal equations over the free nodes: H (upper triangle, block
 // pattern fixed by the edges) and the gradient g = sum J^T W e.
 class NormalEquations {
-public:
+ public:
   NormalEquations(const PoseGraph& graph, const std::vector<std::size_t>& free_index, std::size_t free_count)
       : graph_(graph), free_index_(free_index), dim_(static_cast<int>(6 * free_count)) {
     // Block rows above the diagonal in each block column, sorted.
@@ -182,7 +189,8 @@ public:
       const std::size_t a = free_index[graph.edges[e].from], b = free_index[graph.edges[e].to];
       if (a == kNotFree || b == kNotFree) continue;
       const auto& rows = above[std::max(a, b)];
-      edge_slot_[e] = static_cast<std::size_t>(std::lower_bound(rows.begin(), rows.end(), std::min(a, b)) - rows.begin());
+      edge_slot_[e] =
+          static_cast<std::size_t>(std::lower_bound(rows.begin(), rows.end(), std::min(a, b)) - rows.begin());
     }
     solver_.analyse(dim_, column_start_, row_index);
     diagonal_.resize(static_cast<std::size_t>(dim_));
@@ -233,14 +241,15 @@ public:
   // Solves (H + lambda diag(H)) delta = -g; false when not positive definite.
   bool solve(double lambda, std::vector<double>& delta) {
     double* h = solver_.values();
-    for (int d = 0; d < dim_; ++d) h[column_start_[d + 1] - 1] = diagonal_[static_cast<std::size_t>(d)] * (1.0 + lambda);
+    for (int d = 0; d < dim_; ++d)
+      h[column_start_[d + 1] - 1] = diagonal_[static_cast<std::size_t>(d)] * (1.0 + lambda);
     if (!solver_.factorise()) return false;
     solver_.solve(gradient_, delta);
     for (double& x : delta) x = -x;
     return true;
   }
 
-private:
+ private:
   void addDiagonal(double* h, std::size_t q, const Matrix6d& block) {
     for (int c = 0; c < 6; ++c) {
       double* column = h + column_start_[6 * q + c] + 6 * above_count_[q];
@@ -386,7 +395,8 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
           relinearise = true;
           if (params.levenberg_marquardt) lambda = std::max(lambda / 10.0, 1e-12);
           if (step <= params.update_tolerance ||
-              std::abs(decrease) <= params.relative_decrease_tolerance * stage_cost.robust || stage_cost.robust == 0.0) {
+              std::abs(decrease) <= params.relative_decrease_tolerance * stage_cost.robust ||
+              stage_cost.robust == 0.0) {
             converged = true;
             break;
           }

@@ -81,7 +81,9 @@ std::vector<Isometry3d> turntableTruth() {
 
 // The turntable axis (world z) in the scans' own frame: the same for every
 // scan, since they differ by rotations about it.
-Vector3d axisInScan(const std::vector<Isometry3d>& truth) { return truth[0].linear().transpose() * Vector3d::UnitZ(); }
+Vector3d axisInScan(const std::vector<Isometry3d>& truth) {
+  return truth[0].linear().transpose() * Vector3d::UnitZ();
+}
 
 // Odometry k -> k+1 with a systematic drift `drift` (applied in the scan
 // frame) and Gaussian noise (1 mm, 0.1 deg per axis); one loop closure
@@ -131,8 +133,12 @@ TEST(PoseGraph, AnalyticJacobiansMatchNumericDifferences) {
     for (int c = 0; c < 6; ++c) {
       Vector6d d = Vector6d::Zero();
       d[c] = h;
-      ni.col(c) = (poseGraphEdgeError(poseGraphRetract(ti, d), tj, z) - poseGraphEdgeError(poseGraphRetract(ti, -d), tj, z)) / (2 * h);
-      nj.col(c) = (poseGraphEdgeError(ti, poseGraphRetract(tj, d), z) - poseGraphEdgeError(ti, poseGraphRetract(tj, -d), z)) / (2 * h);
+      ni.col(c) =
+          (poseGraphEdgeError(poseGraphRetract(ti, d), tj, z) - poseGraphEdgeError(poseGraphRetract(ti, -d), tj, z)) /
+          (2 * h);
+      nj.col(c) =
+          (poseGraphEdgeError(ti, poseGraphRetract(tj, d), z) - poseGraphEdgeError(ti, poseGraphRetract(tj, -d), z)) /
+          (2 * h);
     }
     EXPECT_LT((ji - ni).cwiseAbs().maxCoeff(), 1e-7) << "trial " << trial << "\n" << ji << "\n\n" << ni;
     EXPECT_LT((jj - nj).cwiseAbs().maxCoeff(), 1e-7) << "trial " << trial << "\n" << jj << "\n\n" << nj;
@@ -234,7 +240,8 @@ TEST(PoseGraph, DriftThatCancelsAroundTheLoopIsNotObservable) {
   // optimiser reaches the least-squares optimum (chi2 near its 6 degrees of
   // freedom) but the poses keep most of the drift.
   const std::vector<Isometry3d> truth = turntableTruth();
-  const PoseGraph graph = drifingChain(truth, makePose(Vector3d(0.1 * kDeg, 0.0, 0.3 * kDeg), Vector3d(0.0, 0.001, 0.0)), 42);
+  const PoseGraph graph =
+      drifingChain(truth, makePose(Vector3d(0.1 * kDeg, 0.0, 0.3 * kDeg), Vector3d(0.0, 0.001, 0.0)), 42);
   const Errors before = poseErrors(graph.poses, truth);
   const PoseGraphResult result = optimisePoseGraph(graph);
   const Errors after = poseErrors(result.poses, truth);
@@ -255,7 +262,8 @@ TEST(PoseGraph, CauchyKernelRejectsAWrongLoopClosure) {
   PoseGraphEdge wrong;
   wrong.from = 9;
   wrong.to = 27;
-  wrong.measurement = truth[9].inverse() * truth[27] * makePose(Vector3d(0.0, 45.0 * kDeg, 0.0), Vector3d(0.2, 0.0, 0.0));
+  wrong.measurement =
+      truth[9].inverse() * truth[27] * makePose(Vector3d(0.0, 45.0 * kDeg, 0.0), Vector3d(0.2, 0.0, 0.0));
   wrong.information = poseGraphInformation(0.001, 0.1 * kDeg);
   graph.edges.push_back(wrong);
 
@@ -271,8 +279,8 @@ TEST(PoseGraph, CauchyKernelRejectsAWrongLoopClosure) {
   const Errors cauchy_at_once = poseErrors(optimisePoseGraph(graph, at_once).poses, truth);
   at_once.robust_warm_start = false;
   const Errors cauchy_cold = poseErrors(optimisePoseGraph(graph, at_once).poses, truth);
-  std::cout << "Cauchy without annealing: " << cauchy_at_once.max_translation * 1e3 << " mm, without warm start either: "
-            << cauchy_cold.max_translation * 1e3 << " mm\n";
+  std::cout << "Cauchy without annealing: " << cauchy_at_once.max_translation * 1e3
+            << " mm, without warm start either: " << cauchy_cold.max_translation * 1e3 << " mm\n";
   params.kernel = RobustKernel::Huber;
   const Errors huber = poseErrors(optimisePoseGraph(graph, params).poses, truth);
   std::cout << "wrong loop closure: max error clean " << clean.max_translation * 1e3 << " mm, plain "
@@ -322,11 +330,11 @@ TEST(PoseGraph, LargerGraphSpeed) {
     const PoseGraphResult result = optimisePoseGraph(graph);
     const Errors before = poseErrors(graph.poses, truth), after = poseErrors(result.poses, truth);
     std::cout << n << " nodes, " << graph.edges.size() << " edges: " << result.report.iterations << " iterations ("
-              << result.report.accepted_steps << " accepted), "
-              << result.report.time_ms << " ms, nnz(H upper) " << result.report.nonzeros << ", nnz(L) "
-              << result.report.factor_nonzeros << (result.report.supernodal ? " supernodal" : " simplicial")
-              << ", chi2 " << result.report.initial_chi2 << " -> " << result.report.final_chi2 << ", max error "
-              << before.max_translation << " -> " << after.max_translation << " m\n";
+              << result.report.accepted_steps << " accepted), " << result.report.time_ms << " ms, nnz(H upper) "
+              << result.report.nonzeros << ", nnz(L) " << result.report.factor_nonzeros
+              << (result.report.supernodal ? " supernodal" : " simplicial") << ", chi2 " << result.report.initial_chi2
+              << " -> " << result.report.final_chi2 << ", max error " << before.max_translation << " -> "
+              << after.max_translation << " m\n";
     EXPECT_TRUE(result.report.converged);
     EXPECT_LT(after.max_translation, before.max_translation);
     // Near the chi2 expectation: 6 x (edges - free nodes) = 6 x (n / 25 - 1).

@@ -84,18 +84,18 @@ struct PoseGraphParameters {
 };
 
 struct PoseGraphReport {
-  int iterations = 0;           ///< linearisations done
-  int accepted_steps = 0;       ///< steps that lowered the cost
-  double initial_chi2 = 0.0;    ///< sum of e^T Omega e at the initial poses
-  double final_chi2 = 0.0;      ///< the same at the returned poses
-  double initial_cost = 0.0;    ///< the robust cost (= chi2 without a kernel)
+  int iterations = 0;         ///< linearisations done
+  int accepted_steps = 0;     ///< steps that lowered the cost
+  double initial_chi2 = 0.0;  ///< sum of e^T Omega e at the initial poses
+  double final_chi2 = 0.0;    ///< the same at the returned poses
+  double initial_cost = 0.0;  ///< the robust cost (= chi2 without a kernel)
   double final_cost = 0.0;
-  bool converged = false;       ///< a tolerance was met (not the iteration limit)
+  bool converged = false;  ///< a tolerance was met (not the iteration limit)
   std::size_t free_nodes = 0;
-  std::size_t nonzeros = 0;     ///< stored entries of the upper triangle of H
+  std::size_t nonzeros = 0;         ///< stored entries of the upper triangle of H
   std::size_t factor_nonzeros = 0;  ///< entries of the Cholesky factor (fill-reducing order applied)
-  bool supernodal = false;      ///< CHOLMOD's choice of factor type
-  double time_ms = 0.0;         ///< wall-clock time, setup included
+  bool supernodal = false;          ///< CHOLMOD's choice of factor type
+  double time_ms = 0.0;             ///< wall-clock time, setup included
   /// Per edge, the final robust weight (1 = full; < 1 down-weighted).
   std::vector<double> edge_weights;
 };
