@@ -35,7 +35,7 @@ class CholmodSolver {
   /// matrix is not positive definite.
   bool factorise();
 
-  /// Solves A x = rhs with the last factorisation (x may alias nothing).
+  /// Solves A x = rhs with the last factorisation ; `x` is resized to n.
   void solve(const std::vector<double>& rhs, std::vector<double>& x);
 
  private:

@@ -54,12 +54,10 @@ Vector3d logSO3(const Matrix3d& rotation) {
 Matrix3d rightJacobianInverse(const Vector3d& phi) {
   const double angle = phi.norm();
   const Matrix3d k = skew(phi);
-  double c;
-  if (angle < 1e-4) {
-    c = 1.0 / 12.0 + angle * angle / 720.0;
-  } else {
-    c = 1.0 / (angle * angle) - (1.0 + std::cos(angle)) / (2.0 * angle * std::sin(angle));
-  }
+  // 1/a^2 - (1 + cos a) / (2 a sin a), written with cot(a/2) so that it
+  // stays finite up to a = pi (an edge error of half a turn).
+  const double c = angle < 1e-4 ? 1.0 / 12.0 + angle * angle / 720.0
+                                : 1.0 / (angle * angle) - std::cos(0.5 * angle) / (2.0 * angle * std::sin(0.5 * angle));
   return Matrix3d::Identity() + 0.5 * k + c * k * k;
 }
 

@@ -125,7 +125,10 @@ TEST(PoseGraph, AnalyticJacobiansMatchNumericDifferences) {
     const Isometry3d ti = randomPose(rng, 3.0, 2.0), tj = randomPose(rng, 3.0, 2.0);
     // Small errors (near convergence) and large ones (a poor start).
     const double error_angle = trial % 2 == 0 ? 0.05 : 2.0;
-    const Isometry3d z = ti.inverse() * tj * randomPose(rng, error_angle, 0.3);
+    Isometry3d z = ti.inverse() * tj * randomPose(rng, error_angle, 0.3);
+    // And errors close to half a turn, where Jr^-1 is largest.
+    if (trial % 5 == 4)
+      z = ti.inverse() * tj * makePose(3.1 * randomPose(rng, 1.0, 0.0).linear().col(0), Vector3d(0.1, 0.2, 0.3));
     Matrix6d ji, jj;
     poseGraphEdgeError(ti, tj, z, &ji, &jj);
     const double h = 1e-6;
