@@ -236,6 +236,16 @@ class NormalEquations {
     for (int d = 0; d < dim_; ++d) diagonal_[static_cast<std::size_t>(d)] = h[column_start_[d + 1] - 1];
   }
 
+  // The cost decrease the quadratic model predicts for a step solved with
+  // `lambda`: with cost sum e^T W e, gradient 2 g and (H + lambda D) delta
+  // = -g, it is -g.delta + lambda delta^T D delta.
+  double predictedDecrease(double lambda, const std::vector<double>& delta) const {
+    double decrease = 0.0;
+    for (std::size_t d = 0; d < delta.size(); ++d)
+      decrease += -gradient_[d] * delta[d] + lambda * diagonal_[d] * delta[d] * delta[d];
+    return decrease;
+  }
+
   // Solves (H + lambda diag(H)) delta = -g; false when not positive definite.
   bool solve(double lambda, std::vector<double>& delta) {
     double* h = solver_.values();
@@ -364,6 +374,7 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
     auto run = [&](const Kernel& stage_kernel) {
       Cost stage_cost = evaluate(graph, result.poses, stage_kernel);
       double lambda = params.levenberg_marquardt ? params.initial_lambda : 0.0;
+      double lambda_growth = 2.0;
       bool relinearise = true;
       bool converged = false;
       while (report.iterations < params.max_iterations) {
@@ -373,7 +384,8 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
         if (!normal.solve(lambda, delta)) {
           // Only rounding can make H indefinite (validation guarantees a
           // connected, positive definite problem): damp harder.
-          lambda = std::max(lambda * 10.0, 1e-9);
+          lambda = std::max(lambda * lambda_growth, 1e-9);
+          lambda_growth *= 2.0;
           continue;
         }
         double step = 0.0;
@@ -387,11 +399,18 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
         const bool accept = !params.levenberg_marquardt || next.robust < stage_cost.robust;
         if (accept) {
           const double decrease = stage_cost.robust - next.robust;
+          if (params.levenberg_marquardt) {
+            // Nielsen's rule: damp less the better the quadratic model
+            // predicted the decrease.
+            const double predicted = normal.predictedDecrease(lambda, delta);
+            const double gain = predicted > 0.0 ? decrease / predicted : 1.0;
+            lambda *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * gain - 1.0, 3));
+            lambda_growth = 2.0;
+          }
           result.poses.swap(candidate);
           stage_cost = next;
           ++report.accepted_steps;
           relinearise = true;
-          if (params.levenberg_marquardt) lambda = std::max(lambda / 10.0, 1e-12);
           if (step <= params.update_tolerance ||
               std::abs(decrease) <= params.relative_decrease_tolerance * stage_cost.robust ||
               stage_cost.robust == 0.0) {
@@ -405,7 +424,8 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
             converged = true;
             break;
           }
-          lambda = std::max(lambda * 10.0, 1e-9);
+          lambda = std::max(lambda * lambda_growth, 1e-9);
+          lambda_growth *= 2.0;
         }
       }
       return converged;
