@@ -31,11 +31,11 @@ class CholmodSolver {
   /// Non-zeros of the factor L after the analysis.
   double factorNonzeros() const { return common_.lnz; }
 
-  /// Numeric LL^T factorisation of the current values; false when the
-  /// matrix is not positive definite.
+  /// Numeric factorisation of the current values (LDL^T when simplicial,
+  /// LL^T when supernodal); false when the matrix is not positive definite.
   bool factorise();
 
-  /// Solves A x = rhs with the last factorisation ; `x` is resized to n.
+  /// Solves A x = rhs with the last factorisation; `x` is resized to n.
   void solve(const std::vector<double>& rhs, std::vector<double>& x);
 
  private:
