@@ -140,9 +140,15 @@ struct RawlogReader::Impl {
   RangeScan convert(CObservation3DRangeScan& obs, std::size_t index) {
     const std::string where = scanLocation(index);
     // External images and range files are loaded lazily relative to the images folder.
-    obs.load();
-    if (obs.hasIntensityImage) obs.intensityImage.forceLoad();
-    if (obs.hasConfidenceImage) obs.confidenceImage.forceLoad();
+    try {
+      obs.load();
+      if (obs.hasIntensityImage) obs.intensityImage.forceLoad();
+      if (obs.hasConfidenceImage) obs.confidenceImage.forceLoad();
+    } catch (const std::exception& e) {
+      throw InputError(path, where,
+                       "an externally stored image could not be loaded (images folder " +
+                           mrpt::img::CImage::getImagesPathBase() + "): " + e.what());
+    }
     if (!obs.hasRangeImage || obs.rangeImage.cols() == 0 || obs.rangeImage.rows() == 0)
       throw InputError(path, where, "the 3D scan has no range image");
 

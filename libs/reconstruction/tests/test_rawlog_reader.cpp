@@ -178,6 +178,31 @@ TEST(RawlogReader, TruncatedGzipNamesTheScanReached) {
   fs::remove_all(scratch);
 }
 
+TEST(RawlogReader, TruncatedPlainFileNamesTheScanReached) {
+  const std::string dir = simulatedRecording(4, false);
+  const fs::path scratch = scratchFolder("truncated_plain");
+  const auto reference = loadWithMrpt(dir + "/scans.rawlog");
+  const std::string whole = (scratch / "whole.rawlog").string();
+  {
+    mrpt::io::CFileOutputStream out(whole);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    for (const auto& obs : reference) archive << *obs;
+  }
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string path = (scratch / "cut.rawlog").string();
+  // Cut inside the third scan.
+  std::ofstream(path, std::ios::binary) << bytes.substr(0, bytes.size() * 5 / 8);
+  std::size_t complete = 0;
+  const InputError e = expectInputError([&] {
+    RawlogReader reader(path);
+    while (reader.next()) ++complete;
+  });
+  EXPECT_EQ(complete, 2u);
+  EXPECT_EQ(e.location(), "scan 2");
+  fs::remove_all(scratch);
+}
+
 TEST(RawlogReader, MissingAndEmptyFiles) {
   const fs::path scratch = scratchFolder("missing");
   const std::string missing = (scratch / "nope.rawlog").string();

@@ -1,7 +1,11 @@
 /// \file
 /// Scan filters on synthetic range images with known answers.
 
+#include "simulated_recordings.hpp"
 #include "synthetic_scans.hpp"
+
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/ray_caster.hpp>
 
 #include <icrkit/reconstruction/scan_filters.hpp>
 
@@ -162,6 +166,43 @@ TEST(SupportPlane, NoPlaneNoRemoval) {
   EXPECT_FALSE(report.found);
   EXPECT_EQ(report.removed, 0u);
   EXPECT_EQ(scan.points.size(), 4800u);
+}
+
+}  // namespace
+}  // namespace icrkit::reconstruction
+
+namespace icrkit::reconstruction {
+namespace {
+
+// On a simulated Kinect recording (setup B: the cup on its support plate),
+// crop box + support-plane removal leave the cup and little else.
+TEST(SupportPlane, SimulatedRecordingKeepsOnlyTheObject) {
+  const std::string dir = testing_support::simulatedRecording(4, true);
+  const TriangleMesh object = io::readTriangleMesh(dir + "/object.ply");
+  const RayCaster caster(object);
+  Eigen::AlignedBox3d object_box;
+  for (const auto& v : object.vertices.positions) object_box.extend(v);
+  const Eigen::AlignedBox3d crop(object_box.min() - Eigen::Vector3d(0.03, 0.03, 0.03),
+                                 object_box.max() + Eigen::Vector3d(0.03, 0.03, 0.01));
+  for (RangeScan scan : readAllScans(dir + "/scans.rawlog")) {
+    filterCropBox(scan, crop);
+    std::size_t on_object_before = 0;
+    for (const auto& p : scan.points) on_object_before += caster.closestPoint(p, 0.005).found;
+    const PlaneRemovalReport report = removeSupportPlane(scan, crop, {});
+    ASSERT_TRUE(report.found) << "scan " << scan.index;
+    EXPECT_NEAR(report.plane[2], 1.0, 0.01);
+    EXPECT_NEAR(report.plane[3], 0.0, 0.003);  // the plate's top is z = 0
+    std::size_t on_object = 0;
+    for (const auto& p : scan.points) on_object += caster.closestPoint(p, 0.005).found;
+    EXPECT_GT(static_cast<double>(on_object), 0.98 * static_cast<double>(scan.points.size())) << "scan " << scan.index;
+    // What goes of the object is its bottom rim within inlier_distance of the plate.
+    EXPECT_GT(static_cast<double>(on_object), 0.9 * static_cast<double>(on_object_before)) << "scan " << scan.index;
+
+    // The jump-edge filter takes the seams (silhouette, rim over the inside,
+    // grazing sides of the cylinder), not the surface.
+    const FilterReport edges = filterJumpEdges(scan, {});
+    EXPECT_LT(static_cast<double>(edges.removed), 0.2 * static_cast<double>(edges.pixels_before));
+  }
 }
 
 }  // namespace
