@@ -148,6 +148,11 @@ TEST(OctreeFusion, DoubleLayerInFrontIsCarved) {
   for (const auto& p : result.points.positions) (p.x() < -0.015 ? front : back) += 1;
   EXPECT_GT(back, 0u);
   EXPECT_LT(static_cast<double>(front), 0.1 * static_cast<double>(back)) << front << " in front, " << back << " on the wall";
+
+  // Deterministic: the same scans give the same points.
+  const OctreeFusionResult again = fuseScans(scans, params);
+  EXPECT_EQ(again.points.positions, result.points.positions);
+  EXPECT_EQ(again.report.occupied_leaves, result.report.occupied_leaves);
 }
 
 TEST(OctreeFusion, RejectsBadParameters) {

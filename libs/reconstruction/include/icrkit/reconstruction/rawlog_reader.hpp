@@ -74,7 +74,8 @@ struct RawlogReaderOptions {
   /// Folder of externally stored images; empty: `<rawlog name without
   /// extension>_Images` next to the rawlog (MRPT's convention).
   std::string images_folder;
-  /// Compute `points` and `pixels` (skip for a header-only pass).
+  /// Compute `points` and `pixels` (skip for a pass over the images only;
+  /// filterCropBox and removeSupportPlane need the points).
   bool unproject = true;
 };
 
@@ -107,9 +108,10 @@ private:
 /// Reads every scan (convenience for small recordings and tests).
 std::vector<RangeScan> readAllScans(const std::string& path, const RawlogReaderOptions& options = {});
 
-/// Unit-free helper shared by the filters: the point of pixel (row, col)
-/// at `range` metres in the sensor's optical frame (x right, y down, z
-/// forward), pinhole model without distortion.
+/// The point of pixel (row, col) at `range` metres (a depth or a ray
+/// length, as the scan says) in the sensor's optical frame (x right, y
+/// down, z forward); pinhole model without distortion, like MRPT's
+/// unprojection. Shared by the filters.
 Eigen::Vector3d opticalPoint(const RangeScan& scan, int row, int col, double range);
 
 /// MRPT's sensor axes in optical coordinates (columns: forward, left, up).
