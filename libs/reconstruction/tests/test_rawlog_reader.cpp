@@ -1,0 +1,375 @@
+/// \file
+/// Rawlog reading: simulated recordings read back against MRPT's own
+/// CRawlog + unprojectInto, the TUM override, both layouts, external
+/// images, and the bad inputs the reader must name.
+
+#include "simulated_recordings.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/pose.hpp>
+#include <icrkit/core/pose_mrpt.hpp>
+#include <icrkit/core/ray_caster.hpp>
+#include <icrkit/reconstruction/rawlog_reader.hpp>
+#include <icrkit/sim/rawlog_writer.hpp>
+
+#include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+namespace icrkit::reconstruction {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::scratchFolder;
+using testing_support::simulatedRecording;
+
+std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> loadWithMrpt(const std::string& path) {
+  mrpt::obs::CRawlog rawlog;
+  EXPECT_TRUE(rawlog.loadFromRawLogFile(path));
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> out;
+  for (std::size_t i = 0; i < rawlog.size(); ++i)
+    if (auto o = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(rawlog.getAsObservation(i)))
+      out.push_back(o);
+  return out;
+}
+
+template <typename Function>
+InputError expectInputError(Function&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError thrown";
+  return InputError("", "", "");
+}
+
+TEST(RawlogReader, MatchesMrptUnprojection) {
+  const std::string dir = simulatedRecording(4, false);
+  const std::string path = dir + "/scans.rawlog";
+  const auto reference = loadWithMrpt(path);
+  ASSERT_EQ(reference.size(), 4u);
+  const auto reported = readTumTrajectory(dir + "/reported_poses.txt");
+
+  RawlogReader reader(path);
+  std::size_t count = 0;
+  while (auto scan = reader.next()) {
+    ASSERT_LT(count, reference.size());
+    auto& obs = *reference[count];
+    EXPECT_EQ(scan->index, count);
+    EXPECT_EQ(scan->sensor_label, "KINECT");
+    EXPECT_TRUE(scan->range_is_depth);
+    EXPECT_EQ(scan->width, 640);
+    EXPECT_EQ(scan->height, 480);
+    EXPECT_NEAR(scan->timestamp, mrpt::Clock::toDouble(obs.timestamp), 1e-6);
+    EXPECT_GT(scan->timestamp, sim::kRawlogEpoch - 1);
+    EXPECT_TRUE(scan->sensor_pose.isApprox(reported[count].pose, 1e-9));
+    EXPECT_FALSE(scan->intensity.empty());
+    EXPECT_EQ(scan->intensity.channels, 3);
+    EXPECT_FALSE(scan->intensity_is_ir);
+    EXPECT_EQ(scan->confidence.width, 640);
+
+    mrpt::maps::CSimplePointsMap cloud;
+    mrpt::obs::T3DPointsProjectionParams pp;
+    pp.takeIntoAccountSensorPoseOnRobot = true;
+    obs.unprojectInto(cloud, pp);
+    EXPECT_EQ(scan->points.size(), scan->validPixels());
+    ASSERT_EQ(scan->points.size(), cloud.size());
+    const Eigen::Isometry3d to_sensor = scan->sensor_pose.inverse();
+    const Eigen::Matrix3d axes = mrptSensorAxesInOptical();
+    double worst_pixel = 0;
+    for (std::size_t k = 0; k < cloud.size(); ++k) {
+      float x, y, z;
+      cloud.getPoint(k, x, y, z);
+      ASSERT_EQ(scan->points[k], Eigen::Vector3d(x, y, z));
+      // The reported pixel is where the point projects (MRPT unprojects
+      // without distortion, so the pinhole model inverts it).
+      const Eigen::Vector3d optical = axes * (to_sensor * scan->points[k]);
+      const double u = scan->camera.fx * optical.x() / optical.z() + scan->camera.cx;
+      const double v = scan->camera.fy * optical.y() / optical.z() + scan->camera.cy;
+      const int col = static_cast<int>(scan->pixels[k] % scan->width);
+      const int row = static_cast<int>(scan->pixels[k] / scan->width);
+      worst_pixel = std::max({worst_pixel, std::abs(u - col), std::abs(v - row)});
+      EXPECT_NEAR(optical.z(), scan->range[scan->pixels[k]], 2e-4);
+    }
+    EXPECT_LT(worst_pixel, 0.01);
+    ++count;
+  }
+  EXPECT_EQ(count, 4u);
+  EXPECT_EQ(reader.scansRead(), 4u);
+}
+
+TEST(RawlogReader, PerfectPosesPutPointsOnTheScene) {
+  const std::string dir = simulatedRecording(4, true);
+  const RayCaster scene(io::readTriangleMesh(dir + "/scene.ply"));
+  const auto scans = readAllScans(dir + "/scans.rawlog");
+  ASSERT_EQ(scans.size(), 4u);
+  for (const RangeScan& scan : scans) {
+    ASSERT_GT(scan.points.size(), 1000u);
+    std::vector<double> d;
+    for (std::size_t k = 0; k < scan.points.size(); k += 7) d.push_back(scene.closestPoint(scan.points[k]).distance);
+    std::sort(d.begin(), d.end());
+    // Kinect noise and quantisation, not pose errors.
+    EXPECT_LT(d[d.size() / 2], 0.003) << "scan " << scan.index;
+  }
+}
+
+TEST(RawlogReader, TumFileOverridesSensorPoses) {
+  const std::string dir = simulatedRecording(4, false);
+  const auto truth = readTumTrajectory(dir + "/ground_truth.txt");
+  const auto rawlog_scans = readAllScans(dir + "/scans.rawlog");
+  RawlogReaderOptions options;
+  options.pose_file = dir + "/ground_truth.txt";
+  const auto scans = readAllScans(dir + "/scans.rawlog", options);
+  ASSERT_EQ(scans.size(), rawlog_scans.size());
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    EXPECT_TRUE(scans[i].sensor_pose.isApprox(truth[i].pose, 1e-12));
+    const Eigen::Isometry3d change = truth[i].pose * rawlog_scans[i].sensor_pose.inverse();
+    ASSERT_EQ(scans[i].points.size(), rawlog_scans[i].points.size());
+    double worst = 0;
+    for (std::size_t k = 0; k < scans[i].points.size(); ++k)
+      worst = std::max(worst, (scans[i].points[k] - change * rawlog_scans[i].points[k]).norm());
+    EXPECT_LT(worst, 1e-5);  // MRPT's single precision
+  }
+}
+
+TEST(RawlogReader, TooFewPosesNameTheScan) {
+  const std::string dir = simulatedRecording(4, false);
+  const fs::path scratch = scratchFolder("few_poses");
+  const auto truth = readTumTrajectory(dir + "/ground_truth.txt");
+  writeTumTrajectory((scratch / "two.txt").string(), {truth[0], truth[1]});
+  RawlogReaderOptions options;
+  options.pose_file = (scratch / "two.txt").string();
+  const InputError e = expectInputError([&] { readAllScans(dir + "/scans.rawlog", options); });
+  EXPECT_EQ(e.location(), "scan 2");
+  EXPECT_EQ(e.source(), options.pose_file);
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, TruncatedGzipNamesTheScanReached) {
+  const std::string dir = simulatedRecording(4, false);
+  const fs::path scratch = scratchFolder("truncated");
+  std::ifstream in(dir + "/scans.rawlog", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string path = (scratch / "half.rawlog").string();
+  std::ofstream(path, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  std::size_t complete = 0;
+  const InputError e = expectInputError([&] {
+    RawlogReader reader(path);
+    while (reader.next()) ++complete;
+  });
+  EXPECT_EQ(e.source(), path);
+  EXPECT_LT(complete, 4u);
+  EXPECT_EQ(e.location(), "scan " + std::to_string(complete));
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, TruncatedPlainFileNamesTheScanReached) {
+  const std::string dir = simulatedRecording(4, false);
+  const fs::path scratch = scratchFolder("truncated_plain");
+  const auto reference = loadWithMrpt(dir + "/scans.rawlog");
+  const std::string whole = (scratch / "whole.rawlog").string();
+  {
+    mrpt::io::CFileOutputStream out(whole);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    for (const auto& obs : reference) archive << *obs;
+  }
+  std::ifstream in(whole, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string path = (scratch / "cut.rawlog").string();
+  // Cut inside the third scan.
+  std::ofstream(path, std::ios::binary) << bytes.substr(0, bytes.size() * 5 / 8);
+  std::size_t complete = 0;
+  const InputError e = expectInputError([&] {
+    RawlogReader reader(path);
+    while (reader.next()) ++complete;
+  });
+  EXPECT_EQ(complete, 2u);
+  EXPECT_EQ(e.location(), "scan 2");
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, MissingAndEmptyFiles) {
+  const fs::path scratch = scratchFolder("missing");
+  const std::string missing = (scratch / "nope.rawlog").string();
+  EXPECT_EQ(expectInputError([&] { RawlogReader reader(missing); }).source(), missing);
+  const std::string empty = (scratch / "empty.rawlog").string();
+  std::ofstream(empty).close();
+  const InputError e = expectInputError([&] { RawlogReader reader(empty); });
+  EXPECT_NE(e.detail().find("no 3D range scans"), std::string::npos) << e.what();
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, NoThreeDScans) {
+  const fs::path scratch = scratchFolder("no3d");
+  const std::string path = (scratch / "laser.rawlog").string();
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    mrpt::obs::CObservation2DRangeScan laser;
+    laser.resizeScan(10);
+    archive << laser << laser;
+  }
+  const InputError e = expectInputError([&] { RawlogReader reader(path); });
+  EXPECT_NE(e.detail().find("no 3D range scans"), std::string::npos) << e.what();
+  fs::remove_all(scratch);
+}
+
+mrpt::obs::CObservation3DRangeScan smallScan(int w, int h) {
+  mrpt::obs::CObservation3DRangeScan obs;
+  obs.cameraParams.ncols = w;
+  obs.cameraParams.nrows = h;
+  obs.cameraParams.setIntrinsicParamsFromValues(50, 50, (w - 1) / 2.0, (h - 1) / 2.0);
+  obs.cameraParamsIntensity = obs.cameraParams;
+  obs.hasRangeImage = true;
+  obs.rangeUnits = 0.001f;
+  obs.rangeImage_setSize(h, w);
+  obs.rangeImage.fill(1000);
+  obs.maxRange = 5;
+  return obs;
+}
+
+TEST(RawlogReader, ScanWithoutRangeImage) {
+  const fs::path scratch = scratchFolder("norange");
+  const std::string path = (scratch / "x.rawlog").string();
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    mrpt::obs::CObservation3DRangeScan good = smallScan(8, 6), bad;
+    archive << good << bad;
+  }
+  const InputError e = expectInputError([&] { readAllScans(path); });
+  EXPECT_EQ(e.location(), "scan 1");
+  EXPECT_NE(e.detail().find("no range image"), std::string::npos) << e.what();
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, InconsistentImageSizes) {
+  const fs::path scratch = scratchFolder("sizes");
+  const std::string path = (scratch / "x.rawlog").string();
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto good = smallScan(8, 6);
+    auto bad_confidence = smallScan(8, 6);
+    bad_confidence.hasConfidenceImage = true;
+    bad_confidence.confidenceImage = mrpt::img::CImage(7, 6, mrpt::img::CH_GRAY);
+    archive << good << bad_confidence;
+  }
+  RawlogReader reader(path);
+  EXPECT_TRUE(reader.next());
+  InputError e = expectInputError([&] { reader.next(); });
+  EXPECT_EQ(e.location(), "scan 1");
+  EXPECT_NE(e.detail().find("confidence image"), std::string::npos) << e.what();
+
+  // (MRPT itself fixes a cameraParams size that disagrees with the range
+  // image when it reads the observation, so that case cannot be written.)
+  const fs::path path2 = scratch / "y.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream out(path2.string());
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto bad_intensity = smallScan(8, 6);
+    bad_intensity.hasIntensityImage = true;
+    bad_intensity.intensityImage = mrpt::img::CImage(4, 3, mrpt::img::CH_GRAY);
+    archive << bad_intensity;
+  }
+  RawlogReader reader2(path2.string());
+  e = expectInputError([&] { reader2.next(); });
+  EXPECT_EQ(e.location(), "scan 0");
+  EXPECT_NE(e.detail().find("intensity image"), std::string::npos) << e.what();
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, SensoryFrameLayoutPlainFile) {
+  const std::string dir = simulatedRecording(4, false);
+  const auto reference = loadWithMrpt(dir + "/scans.rawlog");
+  const fs::path scratch = scratchFolder("frames");
+  const std::string path = (scratch / "frames.rawlog").string();
+  {
+    mrpt::io::CFileOutputStream out(path);  // plain, not gzip
+    auto archive = mrpt::serialization::archiveFrom(out);
+    for (std::size_t i = 0; i < reference.size(); i += 2) {
+      mrpt::obs::CActionCollection actions;
+      mrpt::obs::CSensoryFrame frame;
+      frame.insert(reference[i]);
+      auto laser = std::make_shared<mrpt::obs::CObservation2DRangeScan>();
+      laser->resizeScan(4);
+      frame.insert(laser);  // skipped by the reader
+      if (i + 1 < reference.size()) frame.insert(reference[i + 1]);
+      archive << actions << frame;
+    }
+  }
+  const auto direct = readAllScans(dir + "/scans.rawlog");
+  const auto framed = readAllScans(path);
+  ASSERT_EQ(framed.size(), direct.size());
+  for (std::size_t i = 0; i < direct.size(); ++i) {
+    EXPECT_EQ(framed[i].index, i);
+    EXPECT_EQ(framed[i].points, direct[i].points);
+    EXPECT_EQ(framed[i].pixels, direct[i].pixels);
+    EXPECT_TRUE(framed[i].sensor_pose.isApprox(direct[i].sensor_pose));
+  }
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, ExternalImagesFromTheImagesFolder) {
+  const fs::path scratch = scratchFolder("external");
+  fs::create_directories(scratch / "rec_Images");
+  const std::string path = (scratch / "rec.rawlog").string();
+  mrpt::img::CImage amplitude(8, 6, mrpt::img::CH_GRAY);
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 8; ++c) *amplitude.ptr<std::uint8_t>(c, r) = static_cast<std::uint8_t>(10 * r + c);
+  ASSERT_TRUE(amplitude.saveToFile((scratch / "rec_Images" / "amp_0.png").string()));
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto obs = smallScan(8, 6);
+    obs.hasIntensityImage = true;
+    obs.intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_IR;
+    obs.intensityImage.setExternalStorage("amp_0.png");
+    archive << obs;
+  }
+  const auto scans = readAllScans(path);
+  ASSERT_EQ(scans.size(), 1u);
+  ASSERT_EQ(scans[0].intensity.width, 8);
+  ASSERT_EQ(scans[0].intensity.channels, 1);
+  EXPECT_TRUE(scans[0].intensity_is_ir);
+  EXPECT_EQ(scans[0].intensity.data[5 * 8 + 7], 57);
+  EXPECT_EQ(scans[0].points.size(), 48u);
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, MrptSampleRgbdRawlog) {
+  std::vector<fs::path> found;
+  for (const char* root : {"/usr/share/mrpt", "/usr/share/mrpt-common", "/usr/share/doc/mrpt-common"}) {
+    std::error_code error;
+    if (!fs::is_directory(root, error)) continue;
+    for (auto it = fs::recursive_directory_iterator(root, error); it != fs::recursive_directory_iterator();
+         it.increment(error))
+      if (it->path().filename() == "tests_rgbd.rawlog") found.push_back(it->path());
+  }
+  if (found.empty()) GTEST_SKIP() << "tests_rgbd.rawlog not installed (Debian package mrpt-common absent)";
+  RawlogReader reader(found.front().string());
+  std::size_t n = 0;
+  while (auto scan = reader.next()) {
+    EXPECT_EQ(scan->points.size(), scan->validPixels());
+    ++n;
+  }
+  EXPECT_GT(n, 0u);
+}
+
+}  // namespace
+}  // namespace icrkit::reconstruction
