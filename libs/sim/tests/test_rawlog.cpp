@@ -1,4 +1,5 @@
 #include <icrkit/sim/acquisition.hpp>
+#include <icrkit/sim/range_sensor.hpp>
 #include <icrkit/sim/rawlog_writer.hpp>
 
 #include <icrkit/core/error.hpp>
@@ -229,5 +230,50 @@ TEST(Acquisition, SceneHoldsTheObjectAndTheFixtures) {
   }
 }
 
+}  // namespace
+}  // namespace icrkit::sim
+
+namespace icrkit::sim {
+namespace {
+// The SR4000's strong barrel distortion (k1 = -0.82): MRPT's unprojection
+// look-up table undistorts each pixel's ray itself, so the raw range image
+// unprojects onto the wall; calling CObservation3DRangeScan::undistort()
+// first corrects twice.
+TEST(Rawlog, MrptUnprojectionUndistortsTheRays) {
+  TriangleMesh wall;
+  wall.vertices.positions = {{-3, -3, 1}, {3, -3, 1}, {3, 3, 1}, {-3, 3, 1}};
+  wall.faces = {{0, 1, 2}, {0, 2, 3}};
+  const RayCaster caster(wall);
+  SensorModel model = swissRangerSr4000();
+  View view;  // optical frame = object frame: the wall at z = 1 m
+  std::vector<SimulatedScan> scans{simulateScan(caster, SceneAppearance{}, view.true_camera, model, 1)};
+  scans[0].range = scans[0].true_range;  // noise-free
+  const fs::path dir = fs::temp_directory_path() / ("icrkit_rawlog_lens_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  writeRawlog((dir / "wall.rawlog").string(), model, scans, {view});
+  mrpt::obs::CRawlog rawlog;
+  ASSERT_TRUE(rawlog.loadFromRawLogFile((dir / "wall.rawlog").string()));
+  for (bool undistort : {false, true}) {
+    auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(rawlog.getAsObservation(0));
+    if (undistort) obs->undistort();
+    mrpt::maps::CSimplePointsMap points;
+    mrpt::obs::T3DPointsProjectionParams pp;
+    pp.takeIntoAccountSensorPoseOnRobot = true;
+    obs->unprojectInto(points, pp);
+    double worst = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      float x, y, z;
+      points.getPoint(k, x, y, z);
+      worst = std::max(worst, caster.closestPoint(Eigen::Vector3d(x, y, z)).distance);
+    }
+    std::cout << (undistort ? "with" : "without") << " undistort(): worst distance to the wall " << worst * 1e3
+              << " mm\n";
+    if (undistort)
+      EXPECT_GT(worst, 0.02);
+    else
+      EXPECT_LT(worst, 0.002);  // MRPT's single-precision table, out to the image corners
+  }
+  fs::remove_all(dir);
+}
 }  // namespace
 }  // namespace icrkit::sim
