@@ -107,8 +107,9 @@ struct NdtResult {
   /// Final score at the finest resolution: sum over the source points of
   /// -d1 exp(-d2/2 m), m the Mahalanobis distance (higher is better).
   double score = 0.0;
-  /// Score divided by the number of source points times -d1: 1 when every
-  /// point sits on a cell mean, 0 when none is near a Gaussian.
+  /// Score divided by the number of source points times -d1: 0 when no point
+  /// is near a Gaussian, about 1 when every point sits on the mean of its own
+  /// cell (a little more with Face7 / All27, where neighbouring cells add).
   double normalized_score = 0.0;
   std::vector<int> iterations;  ///< Newton iterations per resolution
   bool converged = false;       ///< the finest resolution stopped on the step size
