@@ -12,7 +12,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <unordered_map>
 
 namespace icrkit::ndt {
 
@@ -170,6 +172,31 @@ private:
   NdtNeighbourhood neighbourhood_;
 };
 
+// Centroid per occupied cube, cubes in order of first occurrence (serial:
+// the same points whatever the thread count).
+std::vector<Eigen::Vector3d> voxelCentroids(const std::vector<Eigen::Vector3d>& points, double size) {
+  std::unordered_map<std::int64_t, std::size_t> slot;
+  std::vector<Eigen::Vector3d> sums;
+  std::vector<int> counts;
+  constexpr std::int64_t kHalf = 1 << 20;
+  for (const Eigen::Vector3d& p : points) {
+    std::int64_t key = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double c = std::clamp(std::floor(p(k) / size), -double(kHalf), double(kHalf - 1));
+      key = (key << 21) | (static_cast<std::int64_t>(c) + kHalf);
+    }
+    const auto [it, added] = slot.emplace(key, sums.size());
+    if (added) {
+      sums.push_back(Eigen::Vector3d::Zero());
+      counts.push_back(0);
+    }
+    sums[it->second] += p;
+    ++counts[it->second];
+  }
+  for (std::size_t i = 0; i < sums.size(); ++i) sums[i] /= counts[i];
+  return sums;
+}
+
 std::vector<Eigen::Vector3d> transformed(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose) {
   std::vector<Eigen::Vector3d> out(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) out[i] = pose * points[i];
@@ -264,6 +291,11 @@ NdtResult registerNdt(const PointCloud& source, const NdtTarget& target, const E
   validateParameters(params);
   if (!initial_guess.matrix().allFinite()) throw InputError("initial guess", "", "non-finite pose");
 
+  if (!(params.source_voxel_size >= 0) || !std::isfinite(params.source_voxel_size))
+    throw InputError("source_voxel_size", "", "expected 0 (off) or a positive length in metres");
+  const std::vector<Eigen::Vector3d> points =
+      params.source_voxel_size > 0 ? voxelCentroids(source.positions, params.source_voxel_size) : source.positions;
+
   NdtResult result;
   Eigen::Isometry3d pose = initial_guess;
   for (std::size_t level = 0; level < params.resolutions.size(); ++level) {
@@ -275,7 +307,7 @@ NdtResult registerNdt(const PointCloud& source, const NdtTarget& target, const E
     int iterations = 0;
     bool converged = false;
     while (iterations < params.max_iterations) {
-      const Objective objective(transformed(source.positions, pose), grid, constants, params.neighbourhood);
+      const Objective objective(transformed(points, pose), grid, constants, params.neighbourhood);
       const NdtEvaluation here = objective(Vector6d::Zero(), true);
       if (here.points_scored == 0) {
         if (level == 0)
@@ -318,10 +350,10 @@ NdtResult registerNdt(const PointCloud& source, const NdtTarget& target, const E
     result.iterations.push_back(iterations);
     if (last) {
       result.converged = converged;
-      const Objective objective(transformed(source.positions, pose), grid, constants, params.neighbourhood);
+      const Objective objective(transformed(points, pose), grid, constants, params.neighbourhood);
       const NdtEvaluation final_eval = objective(Vector6d::Zero(), true);
       result.score = -final_eval.value;
-      result.normalized_score = result.score / (-constants.d1 * static_cast<double>(source.size()));
+      result.normalized_score = result.score / (-constants.d1 * static_cast<double>(points.size()));
       result.hessian = final_eval.hessian;
       result.points_scored = final_eval.points_scored;
     }

@@ -43,6 +43,8 @@ struct NdtParameters {
   /// scanned at ~1 mm spacing (the Stanford bunny).
   std::vector<double> resolutions{0.04, 0.02, 0.01};
   /// Cells with fewer target points are left out (their covariance is noise).
+  /// This and `min_eigenvalue_ratio` are read when the NdtTarget is built;
+  /// registration uses the target's values.
   int min_points_per_cell = 5;
   /// Eigenvalues of a cell covariance are raised to at least this fraction of
   /// the largest, so a planar cell has a finite inverse (Magnusson 6.2; PCL
@@ -56,6 +58,10 @@ struct NdtParameters {
   /// centimetre resolutions make d1 ~ -1e-5 (see docs/ndt_registration.md).
   bool scale_invariant_constants = true;
   NdtNeighbourhood neighbourhood = NdtNeighbourhood::Face7;
+  /// When > 0, the source is replaced by the centroids of its points in cubes
+  /// of this edge (metres) before registering: fewer points, faster, at some
+  /// cost in accuracy. 0 (default): every source point.
+  double source_voxel_size = 0.0;
   /// Newton iterations per resolution (line-search evaluations not counted).
   int max_iterations = 40;
   /// Converged when a step moves the pose less than both (metres, radians).
