@@ -189,6 +189,27 @@ TEST(NdtRegistration, SameResultWithOneAndTwoThreads) {
   EXPECT_EQ(one.iterations, two.iterations);
 }
 
+TEST(NdtRegistration, TargetIsReusableAndBuildsMissingResolutionsOnDemand) {
+  const PointCloud target_cloud = makeBoxAndSphere(0.0005, 5);
+  NdtParameters only_two;
+  only_two.resolutions = {0.02};
+  const NdtTarget partial(target_cloud, only_two);
+  const NdtTarget full(target_cloud);
+  EXPECT_GT(partial.cellCount(0.02), 0u);
+  EXPECT_EQ(partial.cellCount(0.01), 0u);  // not prebuilt
+  EXPECT_EQ(full.cellCount(0.02), partial.cellCount(0.02));
+  const Eigen::Isometry3d truth = makePose({0.01, -0.005, 0.008}, {0, 1, 1}, 4 * kDeg);
+  const PointCloud source = transformedCloud(makeBoxAndSphere(0.0005, 6), truth.inverse());
+  const NdtResult a = registerNdt(source, partial, Eigen::Isometry3d::Identity());
+  const NdtResult b = registerNdt(source, full, Eigen::Isometry3d::Identity());
+  const NdtResult c = registerNdt(source, full, Eigen::Isometry3d::Identity());  // reuse
+  EXPECT_TRUE(a.pose.matrix() == b.pose.matrix());
+  EXPECT_TRUE(b.pose.matrix() == c.pose.matrix());
+  const PoseError e = poseError(a.pose, truth);
+  EXPECT_LT(e.translation_m, 2e-4);  // independent noise in source and target: sub-0.2 mm, not exact
+  EXPECT_LT(e.rotation_rad, 0.05 * kDeg);
+}
+
 TEST(NdtRegistration, BadInputThrowsInputError) {
   const PointCloud cloud = makeBoxAndSphere(0.0, 0);
   const PointCloud empty;
