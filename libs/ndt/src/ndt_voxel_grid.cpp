@@ -1,0 +1,127 @@
+#include "ndt_voxel_grid.hpp"
+
+#include <icrkit/core/error.hpp>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace icrkit::ndt {
+
+namespace {
+
+// 21 bits per axis: +-2^20 cells, i.e. +-10 km at 1 cm, far beyond any scan.
+constexpr std::int64_t kHalfRange = 1 << 20;
+
+bool inRange(const Eigen::Vector3i& c) {
+  for (int k = 0; k < 3; ++k)
+    if (c(k) < -kHalfRange || c(k) >= kHalfRange) return false;
+  return true;
+}
+
+std::int64_t pack(const Eigen::Vector3i& c) {
+  return ((c(0) + kHalfRange) << 42) | ((c(1) + kHalfRange) << 21) | (c(2) + kHalfRange);
+}
+
+}  // namespace
+
+Eigen::Vector3i NdtVoxelGrid::cellOf(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d scaled = point / resolution_;
+  // Clamp before the cast: a point far outside turns into an out-of-range
+  // cell, never into undefined behaviour.
+  Eigen::Vector3i c;
+  for (int k = 0; k < 3; ++k)
+    c(k) = static_cast<int>(std::clamp(std::floor(scaled(k)), -2.0 * kHalfRange, 2.0 * kHalfRange));
+  return c;
+}
+
+int NdtVoxelGrid::find(const Eigen::Vector3i& cell) const {
+  if (!inRange(cell)) return -1;
+  const auto it = index_.find(pack(cell));
+  return it == index_.end() ? -1 : it->second;
+}
+
+NdtVoxelGrid::NdtVoxelGrid(const std::vector<Eigen::Vector3d>& points, double resolution, int min_points,
+                           double min_eigenvalue_ratio)
+    : resolution_(resolution) {
+  // Gather the points per cell in input order (serial: the sums, hence the
+  // Gaussians, are the same bits on every run).
+  std::unordered_map<std::int64_t, int> slot;
+  std::vector<Eigen::Vector3i> keys;
+  std::vector<std::vector<int>> members;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3i c = cellOf(points[i]);
+    if (!inRange(c))
+      throw InputError("target cloud", "point " + std::to_string(i),
+                       "more than 2^20 cells of " + std::to_string(resolution) + " m from the origin");
+    const auto [it, added] = slot.emplace(pack(c), static_cast<int>(keys.size()));
+    if (added) {
+      keys.push_back(c);
+      members.emplace_back();
+    }
+    members[static_cast<std::size_t>(it->second)].push_back(static_cast<int>(i));
+  }
+  for (std::size_t s = 0; s < keys.size(); ++s) {
+    const std::vector<int>& m = members[s];
+    if (static_cast<int>(m.size()) < std::max(min_points, 3)) continue;
+    // Shift by the first point so the sums stay small (cells far from the origin).
+    const Eigen::Vector3d origin = points[static_cast<std::size_t>(m.front())];
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    for (int j : m) {
+      const Eigen::Vector3d d = points[static_cast<std::size_t>(j)] - origin;
+      sum += d;
+      outer.noalias() += d * d.transpose();
+    }
+    const double n = static_cast<double>(m.size());
+    const Eigen::Vector3d mean_offset = sum / n;
+    const Eigen::Matrix3d covariance = (outer - n * mean_offset * mean_offset.transpose()) / (n - 1.0);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+    Eigen::Vector3d values = eigen.eigenvalues();
+    const double largest = values.maxCoeff();
+    if (!(largest > 0) || !std::isfinite(largest)) continue;  // coincident points: no shape at all
+    values = values.cwiseMax(min_eigenvalue_ratio * largest);
+    NdtCell cell;
+    cell.mean = origin + mean_offset;
+    cell.inverse_covariance = eigen.eigenvectors() * values.cwiseInverse().asDiagonal() * eigen.eigenvectors().transpose();
+    cell.count = static_cast<int>(m.size());
+    index_.emplace(pack(keys[s]), static_cast<int>(cells_.size()));
+    cells_.push_back(cell);
+  }
+  if (cells_.empty())
+    throw InputError("target cloud", "",
+                     "no cell of " + std::to_string(resolution) + " m holds " + std::to_string(std::max(min_points, 3)) +
+                         " points or more; the cloud is too sparse for this resolution");
+}
+
+void NdtVoxelGrid::lookup(const Eigen::Vector3d& point, NdtNeighbourhood neighbourhood, std::vector<int>& out) const {
+  out.clear();
+  const Eigen::Vector3i c = cellOf(point);
+  auto add = [&](int dx, int dy, int dz) {
+    const int i = find(c + Eigen::Vector3i(dx, dy, dz));
+    if (i >= 0) out.push_back(i);
+  };
+  switch (neighbourhood) {
+    case NdtNeighbourhood::Single:
+      add(0, 0, 0);
+      break;
+    case NdtNeighbourhood::Face7:
+      add(0, 0, 0);
+      add(-1, 0, 0);
+      add(1, 0, 0);
+      add(0, -1, 0);
+      add(0, 1, 0);
+      add(0, 0, -1);
+      add(0, 0, 1);
+      break;
+    case NdtNeighbourhood::All27:
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) add(dx, dy, dz);
+      break;
+  }
+}
+
+}  // namespace icrkit::ndt
