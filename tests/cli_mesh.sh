@@ -118,6 +118,29 @@ d = json.load(open('$work/est.json'))
 assert d['normals'] == 'estimated' and d['boundary_edges'] == 0 and d['euler_characteristic'] == 2, d
 " || fail "estimated normals did not give the closed sphere"
 
+# a fused cloud's per-point viewpoints orient the estimated normals
+py "
+import math
+pts = [(0.002 * i, 0.002 * j, 0.0002 * math.sin(i * j)) for i in range(40) for j in range(40)]
+with open('$work/fused.ply', 'w') as out:
+    out.write('ply\nformat ascii 1.0\nelement vertex %d\n' % len(pts))
+    out.write(''.join('property double %s\n' % p for p in ('x', 'y', 'z', 'viewpoint_x', 'viewpoint_y', 'viewpoint_z')))
+    out.write('end_header\n')
+    for x, y, z in pts:
+        out.write('%r %r %r 0.04 0.04 %r\n' % (x, y, z, -0.5 if x < 0.04 else -0.6))
+"
+"$ICRKIT" mesh "$work/fused.ply" -o "$work/fused_mesh.ply" --json -q >"$work/fused.json" 2>"$work/err" ||
+  fail "mesh of a fused cloud failed: $(cat "$work/err")"
+PYTHONPATH="$here" py "
+import json
+from plyfile import read
+d = json.load(open('$work/fused.json'))
+assert d['normals'].startswith('estimated, facing'), d['normals']
+v, faces = read('$work/fused_mesh.ply')
+assert max(v['nz'][1]) < 0, 'a normal does not face its viewpoint below the plane'
+assert d['used_points'] > 0.95 * d['points'], d
+" || fail "per-point viewpoints did not orient the normals"
+
 # --- Bad arguments and inputs: exit 2, one line, no output left behind
 printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n1 0 0 0 0 1\n' >"$work/two.ply"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n' >"$work/zero_normal.ply"

@@ -70,9 +70,18 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
     if (!options.estimate_normals)
       context.note(options.input + " has no normals: estimating them (see --normal-radius, --viewpoint)");
     const double start = context.elapsedMs();
+    // A fused cloud carries each point's sensor position (viewpoint_x/y/z,
+    // from the reconstruction's fusion): each normal then faces its own.
+    const AttributeSet& a = cloud.attributes;
+    if (options.viewpoint.empty() && a.has("viewpoint_x") && a.has("viewpoint_y") && a.has("viewpoint_z")) {
+      for (std::size_t i = 0; i < cloud.size(); ++i)
+        normal_params.viewpoints.emplace_back(a.get("viewpoint_x").values[i], a.get("viewpoint_y").values[i],
+                                              a.get("viewpoint_z").values[i]);
+      normals_source = "estimated, facing each point's viewpoint attribute";
+    }
     namingInput(options.input, [&] { return ndt::estimateNormals(cloud, normal_params); });
     normals_ms = context.elapsedMs() - start;
-    normals_source = "estimated";
+    if (normals_source == "input") normals_source = "estimated";
   }
 
   const double mesh_start = context.elapsedMs();

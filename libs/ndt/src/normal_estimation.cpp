@@ -22,6 +22,9 @@ NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimatio
   for (std::size_t i = 0; i < n; ++i)
     if (!cloud.positions[i].allFinite())
       throw InputError("point cloud", "point " + std::to_string(i), "non-finite coordinate, expected finite x, y, z");
+  if (!params.viewpoints.empty() && params.viewpoints.size() != n)
+    throw InputError("viewpoints", "", "expected one viewpoint per point (" + std::to_string(n) + "), got " +
+                                           std::to_string(params.viewpoints.size()));
   if (!std::isfinite(params.radius) || params.radius < 0)
     throw InputError("--normal-radius", "", "the normal window radius must be positive, got " + std::to_string(params.radius));
 
@@ -66,7 +69,15 @@ NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimatio
   });
   summary.small_windows = small.load();
   cloud.normals = std::move(normals);
-  summary.flipped = orientNormals(cloud, params.viewpoint);
+  if (params.viewpoints.empty()) {
+    summary.flipped = orientNormals(cloud, params.viewpoint);
+  } else {
+    for (std::size_t i = 0; i < n; ++i)
+      if (cloud.normals[i].dot(params.viewpoints[i] - cloud.positions[i]) < 0) {
+        cloud.normals[i] = -cloud.normals[i];
+        ++summary.flipped;
+      }
+  }
   return summary;
 }
 

@@ -51,6 +51,23 @@ TEST(NormalEstimation, PlaneTowardsViewpoint) {
   for (const auto& n : cloud.normals) EXPECT_NEAR(n.z(), 1.0, 1e-9);
 }
 
+TEST(NormalEstimation, EachPointFacesItsOwnViewpoint) {
+  // Two views of a plane from either side: each half's normals face their
+  // own sensor, as in a cloud fused from several scans.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  PointCloud cloud;
+  NormalEstimationParameters params;
+  for (int i = 0; i < 2000; ++i) {
+    cloud.positions.emplace_back(u(rng), u(rng), 0.0);
+    params.viewpoints.emplace_back(0, 0, i % 2 ? 3.0 : -3.0);
+  }
+  estimateNormals(cloud, params);
+  for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_NEAR(cloud.normals[i].z(), i % 2 ? 1.0 : -1.0, 1e-9);
+  params.viewpoints.pop_back();
+  EXPECT_THROW(estimateNormals(cloud, params), InputError);
+}
+
 TEST(NormalEstimation, IsolatedPointsFallBackToNearestNeighbours) {
   PointCloud cloud = randomSphere(2000, 0.1, 5);
   cloud.positions.emplace_back(0.5, 0, 0);  // far from everything

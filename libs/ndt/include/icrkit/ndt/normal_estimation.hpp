@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <vector>
 
 namespace icrkit::ndt {
 
@@ -24,6 +25,10 @@ struct NormalEstimationParameters {
   /// Orientation: towards this sensor position when given, else outwards
   /// and consistent over the neighbour graph (see orientNormals).
   std::optional<Eigen::Vector3d> viewpoint;
+  /// Per point: each normal faces its own sensor position (a cloud fused
+  /// from several views). When non-empty it must hold one entry per point
+  /// and takes precedence over `viewpoint`.
+  std::vector<Eigen::Vector3d> viewpoints;
 };
 
 struct NormalEstimationSummary {
