@@ -28,8 +28,8 @@ using mrpt::obs::CObservation3DRangeScan;
 
 std::string scanLocation(std::size_t index) { return "scan " + std::to_string(index); }
 
-CameraModel cameraOf(const mrpt::img::TCamera& c) {
-  CameraModel m;
+CameraIntrinsics cameraOf(const mrpt::img::TCamera& c) {
+  CameraIntrinsics m;
   m.width = static_cast<int>(c.ncols);
   m.height = static_cast<int>(c.nrows);
   m.fx = c.fx();

@@ -8,6 +8,8 @@
 /// both the observation-only layout and MRPT's action/sensory-frame layout
 /// are understood. Other observations and actions are skipped.
 
+#include <icrkit/core/camera_intrinsics.hpp>
+
 #include <Eigen/Geometry>
 
 #include <array>
@@ -19,14 +21,6 @@
 #include <vector>
 
 namespace icrkit::reconstruction {
-
-/// Pinhole camera with plumb-bob distortion (OpenCV's order k1 k2 p1 p2 k3),
-/// pixel centres at integer coordinates.
-struct CameraModel {
-  int width = 0, height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  std::array<double, 5> distortion{};
-};
 
 /// An 8-bit image, row-major; `channels` is 1 (grey, amplitude, confidence)
 /// or 3 (RGB order, converted from MRPT's BGR).
@@ -50,8 +44,8 @@ struct RangeScan {
   int width = 0, height = 0;
   /// Row-major, metres, 0 = no return (or removed by a filter).
   std::vector<float> range;
-  CameraModel camera;            ///< of the range image
-  CameraModel camera_intensity;  ///< of the intensity image (registered: usually the same)
+  CameraIntrinsics camera;            ///< of the range image (core/camera_intrinsics.hpp)
+  CameraIntrinsics camera_intensity;  ///< of the intensity image (registered: usually the same)
   Image8 intensity;              ///< colour (Kinect) or amplitude (ToF); empty when absent
   bool intensity_is_ir = false;  ///< MRPT's CH_IR: an amplitude image rather than colour
   Image8 confidence;             ///< empty when absent
