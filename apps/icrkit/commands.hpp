@@ -20,5 +20,6 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner);
 void addMeshCommand(CLI::App& app, CommandRunner& runner);
 void addSimulateCommand(CLI::App& app, CommandRunner& runner);
 void addDatasetsCommand(CLI::App& app, CommandRunner& runner);
+void addCalibrateCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   addMeshCommand(app, runner);
   addSimulateCommand(app, runner);
   addDatasetsCommand(app, runner);
+  addCalibrateCommand(app, runner);
 
   try {
     app.parse(argc, argv);
