@@ -3,6 +3,8 @@
 // comma lists, x,y,z points and lengths given in metres or as a multiple of
 // the median point spacing ("4x"). Errors are InputErrors naming the option.
 
+#include <icrkit/core/error.hpp>
+
 #include <Eigen/Core>
 
 #include <string>
@@ -15,6 +17,19 @@ std::vector<std::string> split(const std::string& text, char separator);
 
 /// Whole-token number parsing: "12x", "" or "nan" fail instead of giving 12 or 0.
 bool parseNumber(const std::string& text, double& value);
+
+/// Runs `work`; an InputError the library raised about `library_source`
+/// (e.g. "point cloud", "images") is raised again naming `user_source`, the
+/// file the user gave.
+template <typename Work>
+auto renamingInputErrors(const std::string& library_source, const std::string& user_source, Work&& work) {
+  try {
+    return work();
+  } catch (const InputError& error) {
+    if (error.source() != library_source) throw;
+    throw InputError(user_source, error.location(), error.detail());
+  }
+}
 
 /// "x,y,z" in metres.
 Eigen::Vector3d parsePoint(const std::string& option, const std::string& text);

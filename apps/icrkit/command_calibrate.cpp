@@ -33,8 +33,8 @@ struct CalibrateOptions {
 reconstruction::Checkerboard parseBoard(const std::string& text, double square) {
   const std::vector<std::string> parts = split(text, 'x');
   double columns = 0, rows = 0;
-  if (parts.size() != 2 || !parseNumber(parts[0], columns) || !parseNumber(parts[1], rows) || columns < 2 ||
-      rows < 2 || columns != static_cast<int>(columns) || rows != static_cast<int>(rows))
+  if (parts.size() != 2 || !parseNumber(parts[0], columns) || !parseNumber(parts[1], rows) || columns < 2 || rows < 2 ||
+      columns != static_cast<int>(columns) || rows != static_cast<int>(rows))
     throw InputError("--board", "", "expected inner corners as COLUMNSxROWS (e.g. 9x6), got '" + text + "'");
   if (!(square > 0)) throw InputError("--square", "", "the square size must be > 0 m");
   return {static_cast<int>(columns), static_cast<int>(rows), square};
@@ -64,14 +64,9 @@ nlohmann::json calibrate(const CalibrateOptions& o, CommandContext& context) {
     }
     if (images.empty()) throw InputError(o.rawlog, "", "no scan carries a colour or amplitude image");
   }
-  reconstruction::CalibrationResult r;
-  try {
-    r = reconstruction::calibrateCamera(images, params);
-  } catch (const InputError& error) {
-    // The library names "images"; the user knows the folder or the rawlog.
-    if (error.source() != "images") throw;
-    throw InputError(o.images.empty() ? o.rawlog : o.images, error.location(), error.detail());
-  }
+  const reconstruction::CalibrationResult r =
+      renamingInputErrors("images", o.images.empty() ? o.rawlog : o.images,
+                          [&] { return reconstruction::calibrateCamera(images, params); });
 
   nlohmann::json used = nlohmann::json::array();
   for (std::size_t i : r.used_images) used.push_back(names[i]);
@@ -80,9 +75,10 @@ nlohmann::json calibrate(const CalibrateOptions& o, CommandContext& context) {
                          {"images", images.size()},
                          {"boards_found", r.used_images.size()},
                          {"used_images", used},
-                         {"board", {{"inner_columns", params.board.inner_columns},
-                                    {"inner_rows", params.board.inner_rows},
-                                    {"square_m", params.board.square_size}}},
+                         {"board",
+                          {{"inner_columns", params.board.inner_columns},
+                           {"inner_rows", params.board.inner_rows},
+                           {"square_m", params.board.square_size}}},
                          {"rms_reprojection_px", r.rms_reprojection_px},
                          {"camera",
                           {{"width", k.width},
@@ -97,7 +93,8 @@ nlohmann::json calibrate(const CalibrateOptions& o, CommandContext& context) {
                                  {"scans", reconstruction::writeRawlogWithIntrinsics(o.rawlog, o.write_rawlog, k)}};
   if (!o.output.empty()) {
     summary["output"] = o.output;
-    writeFileAtomically(o.output, [&](std::ostream& out) { out << summary.dump(2) << '\n'; }, false);
+    writeFileAtomically(
+        o.output, [&](std::ostream& out) { out << summary.dump(2) << '\n'; }, false);
   }
   summary["time_ms"] = {{"total", context.elapsedMs()}};
   return summary;

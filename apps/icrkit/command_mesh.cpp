@@ -28,17 +28,6 @@ struct MeshOptions {
   std::string viewpoint;
 };
 
-// Library errors name "point cloud"; the user knows the file.
-template <typename F>
-auto namingInput(const std::string& input, F&& work) {
-  try {
-    return work();
-  } catch (const InputError& error) {
-    if (error.source() != "point cloud") throw;
-    throw InputError(input, error.location(), error.detail());
-  }
-}
-
 nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
   // Arguments are checked before a large file is read.
   reconstruction::BallPivotingParameters params;
@@ -79,14 +68,14 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
                                               a.get("viewpoint_z").values[i]);
       normals_source = "estimated, facing each point's viewpoint attribute";
     }
-    namingInput(options.input, [&] { return ndt::estimateNormals(cloud, normal_params); });
+    renamingInputErrors("point cloud", options.input, [&] { return ndt::estimateNormals(cloud, normal_params); });
     normals_ms = context.elapsedMs() - start;
     if (normals_source == "input") normals_source = "estimated";
   }
 
   const double mesh_start = context.elapsedMs();
   const reconstruction::BallPivotingResult result =
-      namingInput(options.input, [&] { return reconstruction::ballPivoting(cloud, params); });
+      renamingInputErrors("point cloud", options.input, [&] { return reconstruction::ballPivoting(cloud, params); });
   const double mesh_ms = context.elapsedMs() - mesh_start;
 
   const double write_start = context.elapsedMs();

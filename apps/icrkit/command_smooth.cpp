@@ -46,8 +46,7 @@ ndt::SmoothingParameters parameters(const SmoothOptions& options) {
   if (radius.relative) params.radius_factor = radius.value;
   // Checked here as well as in the library so that a bad argument fails
   // before a large file is read.
-  if (options.passes < 1)
-    throw InputError("--passes", "", "at least one pass, got " + std::to_string(options.passes));
+  if (options.passes < 1) throw InputError("--passes", "", "at least one pass, got " + std::to_string(options.passes));
   params.passes = options.passes;
   params.preselect = !options.no_preselect;
   checkThreshold("--cardinality-threshold", options.cardinality_threshold);
@@ -71,14 +70,8 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
   PointCloud cloud = io::readPointCloud(options.input);
   const double read_ms = context.elapsedMs() - read_start;
 
-  ndt::SmoothingSummary s;
-  try {
-    s = ndt::smoothPointCloud(cloud, params, context.progress());
-  } catch (const InputError& error) {
-    // The library names "point cloud"; the user knows the file.
-    if (error.source() != "point cloud") throw;
-    throw InputError(options.input, error.location(), error.detail());
-  }
+  const ndt::SmoothingSummary s = renamingInputErrors(
+      "point cloud", options.input, [&] { return ndt::smoothPointCloud(cloud, params, context.progress()); });
 
   const double write_start = context.elapsedMs();
   io::writePointCloud(options.output, cloud);
@@ -130,7 +123,8 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
       "properties cardinality, flatness, displacement, excluded and the normals nx, ny, nz) and the JSON summary "
       "next to it (OUT with .json)");
   auto options = std::make_shared<SmoothOptions>();
-  command->add_option("input", options->input, "Point cloud or mesh (.ply, .obj, .pcd, .xyz); meshes give their vertices")
+  command
+      ->add_option("input", options->input, "Point cloud or mesh (.ply, .obj, .pcd, .xyz); meshes give their vertices")
       ->required();
   command->add_option("-o,--output", options->output, "Output cloud, written atomically (.ply recommended)")
       ->required();
@@ -148,9 +142,8 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--viewpoint", options->viewpoint,
                       "Sensor position x,y,z (metres): normals point towards it (default: outwards from the "
                       "centroid, made consistent over neighbours)");
-  command->callback([&runner, options] {
-    runner = [options](CommandContext& context) { context.emit(smooth(*options, context)); };
-  });
+  command->callback(
+      [&runner, options] { runner = [options](CommandContext& context) { context.emit(smooth(*options, context)); }; });
 }
 
 }  // namespace icrkit::app

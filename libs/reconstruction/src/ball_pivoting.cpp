@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
-#include <limits>
 #include <optional>
 #include <string>
 
@@ -175,13 +174,7 @@ public:
   // first it touched. Returns the number of loops closed.
   std::size_t closeSmallHoles(std::size_t max_edges) {
     if (max_edges < 3) return 0;
-    std::vector<std::pair<int, int>> boundary;  // half-edges as their faces run them
-    for (const Edge& edge : edges_) {
-      if (edge.faceCount() != 1) continue;
-      int i = -1, j = -1, o = -1;
-      orientedEdge(edge, i, j, o);
-      boundary.emplace_back(i, j);
-    }
+    std::vector<std::pair<int, int>> boundary = boundaryHalfEdges();
     std::sort(boundary.begin(), boundary.end());
     // The single boundary half-edge leaving v, or -1 when there are none
     // or several (a vertex where holes touch is left alone).
@@ -231,15 +224,21 @@ public:
     return closed;
   }
 
-  // Edge statistics and boundary loops from the front's own bookkeeping.
-  void summarise(BallPivotingReport& report) const {
-    std::vector<std::pair<int, int>> boundary;
+  // The edges with one face, each as that face runs it.
+  std::vector<std::pair<int, int>> boundaryHalfEdges() const {
+    std::vector<std::pair<int, int>> half_edges;
     for (const Edge& edge : edges_) {
       if (edge.faceCount() != 1) continue;
       int i = -1, j = -1, o = -1;
       orientedEdge(edge, i, j, o);
-      boundary.emplace_back(i, j);
+      half_edges.emplace_back(i, j);
     }
+    return half_edges;
+  }
+
+  // Edge statistics and boundary loops from the front's own bookkeeping.
+  void summarise(BallPivotingReport& report) const {
+    std::vector<std::pair<int, int>> boundary = boundaryHalfEdges();
     report.boundary_edges = boundary.size();
     report.boundary_loops = traceBoundaryLoops(std::move(boundary)).size();
     report.non_manifold_edges = 0;  // an edge never takes a third face

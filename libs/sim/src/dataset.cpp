@@ -32,9 +32,7 @@ std::uint64_t viewSeed(std::uint64_t seed, std::size_t view) {
 StampedPose stamped(const Eigen::Isometry3d& optical, double timestamp) {
   StampedPose s;
   s.timestamp = kRawlogEpoch + timestamp;
-  s.pose = Eigen::Isometry3d::Identity();
-  s.pose.linear() = optical.linear() * mrptSensorToOptical();
-  s.pose.translation() = optical.translation();
+  s.pose = mrptSensorPose(optical);
   return s;
 }
 

@@ -1,6 +1,7 @@
 #include <icrkit/sim/rawlog_writer.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/pose_mrpt.hpp>
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/img/CImage.h>
@@ -27,23 +28,11 @@ mrpt::img::TCamera cameraOf(const SensorModel& model) {
   return camera;
 }
 
-mrpt::poses::CPose3D sensorPoseOf(const Eigen::Isometry3d& optical_in_object) {
-  const Eigen::Matrix3d r = optical_in_object.linear() * mrptSensorToOptical();
-  const Eigen::Vector3d t = optical_in_object.translation();
-  mrpt::math::CMatrixDouble44 m;
-  m.setIdentity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m(i, j) = r(i, j);
-    m(i, 3) = t(i);
-  }
-  return mrpt::poses::CPose3D(m);
-}
-
 mrpt::obs::CObservation3DRangeScan observationOf(const SensorModel& model, const SimulatedScan& scan, const View& view) {
   mrpt::obs::CObservation3DRangeScan obs;
   obs.sensorLabel = model.type == SensorType::Kinect ? "KINECT" : "SR4000";
   obs.timestamp = mrpt::Clock::fromDouble(kRawlogEpoch + view.timestamp);
-  obs.sensorPose = sensorPoseOf(view.reported_camera);
+  obs.sensorPose = toCPose3D(mrptSensorPose(view.reported_camera));
   obs.cameraParams = cameraOf(model);
   obs.cameraParamsIntensity = obs.cameraParams;  // registered: same pixels
   obs.maxRange = static_cast<float>(model.max_range);
@@ -102,6 +91,12 @@ Eigen::Matrix3d mrptSensorToOptical() {
       0, 0, -1,   //
       1, 0, 0;
   return r;
+}
+
+Eigen::Isometry3d mrptSensorPose(const Eigen::Isometry3d& optical_in_object) {
+  Eigen::Isometry3d pose = optical_in_object;
+  pose.linear() = optical_in_object.linear() * mrptSensorToOptical();
+  return pose;
 }
 
 void writeRawlog(const std::string& path, const SensorModel& model, const std::vector<SimulatedScan>& scans,

@@ -4,6 +4,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/pose.hpp>
+#include <icrkit/core/pose_mrpt.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
 #include <gtest/gtest.h>
@@ -33,12 +34,6 @@ std::string readBytes(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-mrpt::poses::CPose3D toCPose(const Eigen::Isometry3d& m) {
-  mrpt::math::CMatrixDouble44 h;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) h(i, j) = m(i, j);
-  return mrpt::poses::CPose3D(h);
-}
 
 // Unprojects every view with MRPT, placed with the ground-truth pose, and
 // measures how far the object's points are from the CAD surface.
@@ -58,7 +53,7 @@ SurfaceErrors unprojectWithTruth(const fs::path& dir) {
   for (std::size_t i = 0; i < rawlog.size(); ++i) {
     auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(rawlog.getAsObservation(i));
     if (!obs) continue;
-    obs->sensorPose = toCPose(truth[i].pose);
+    obs->sensorPose = toCPose3D(truth[i].pose);
     mrpt::maps::CSimplePointsMap points;
     mrpt::obs::T3DPointsProjectionParams pp;
     pp.takeIntoAccountSensorPoseOnRobot = true;

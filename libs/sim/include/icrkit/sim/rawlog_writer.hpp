@@ -17,6 +17,8 @@ namespace icrkit::sim {
 /// The rotation from MRPT's sensor axes (x forward, y left, z up) to the
 /// optical axes (x right, y down, z forward): sensorPose = optical pose * this.
 Eigen::Matrix3d mrptSensorToOptical();
+/// The pose of MRPT's sensor axes for a given optical-frame pose.
+Eigen::Isometry3d mrptSensorPose(const Eigen::Isometry3d& optical_in_object);
 
 /// Epoch of the first view's timestamp (seconds since 1970, UTC): fixed, so
 /// that the same simulation writes the same bytes.
