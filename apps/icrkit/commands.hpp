@@ -21,5 +21,6 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner);
 void addSimulateCommand(CLI::App& app, CommandRunner& runner);
 void addDatasetsCommand(CLI::App& app, CommandRunner& runner);
 void addCalibrateCommand(CLI::App& app, CommandRunner& runner);
+void addReconstructCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

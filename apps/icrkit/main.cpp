@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   addSimulateCommand(app, runner);
   addDatasetsCommand(app, runner);
   addCalibrateCommand(app, runner);
+  addReconstructCommand(app, runner);
 
   try {
     app.parse(argc, argv);

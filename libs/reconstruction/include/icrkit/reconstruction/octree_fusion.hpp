@@ -17,6 +17,8 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace icrkit::reconstruction {
@@ -62,10 +64,43 @@ struct OctreeFusionResult {
   OctreeFusionReport report;
 };
 
+/// Incremental fusion, one registered scan at a time, so that a recording
+/// never has to sit in memory: only the candidate points (the fused model)
+/// are kept between scans.
+///
+///     OctreeFusion fusion(params);
+///     for (each scan) fusion.insert(scan, object_mask);
+///     OctreeFusionResult result = fusion.finish();
+class OctreeFusion {
+public:
+  /// Throws InputError for a non-positive resolution or probabilities
+  /// outside (0, 1).
+  explicit OctreeFusion(const OctreeFusionParameters& params = {});
+  ~OctreeFusion();
+  OctreeFusion(const OctreeFusion&) = delete;
+  OctreeFusion& operator=(const OctreeFusion&) = delete;
+
+  /// Carves and marks the octree with every point of `scan` (already in
+  /// the common frame, from `scan.sensor_pose`'s origin). `candidate`, when
+  /// not empty, has one flag per point of `scan.points`: only flagged points
+  /// may appear in the output (e.g. the object's points after cropping and
+  /// support-plane removal), while every point's ray still carves. Throws
+  /// InputError (naming the scan) when `candidate` has the wrong size.
+  void insert(const RangeScan& scan, const std::vector<std::uint8_t>& candidate = {});
+
+  /// Decides which candidates survive; the fusion cannot be used afterwards.
+  OctreeFusionResult finish();
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Fuses scans already in a common frame (their `points` and
-/// `sensor_pose`). Deterministic: the octree does not depend on thread
-/// timing, and points are emitted in input order. Throws InputError for a
-/// non-positive resolution or probabilities outside (0, 1).
+/// `sensor_pose`); every point is a candidate. Deterministic: the octree
+/// does not depend on thread timing, and points are emitted in input order.
+/// Throws InputError for a non-positive resolution or probabilities outside
+/// (0, 1).
 OctreeFusionResult fuseScans(const std::vector<RangeScan>& scans, const OctreeFusionParameters& params = {});
 
 }  // namespace icrkit::reconstruction

@@ -1,0 +1,292 @@
+// `icrkit reconstruct RAWLOG -o DIR`: the whole of Section II-A
+// (reconstruction::reconstructRawlog) and its files: DIR/cloud.ply (fused
+// cloud), DIR/raw.ply and DIR/filtered.ply (meshes), DIR/poses.txt (TUM,
+// the rawlog's sensor axes) and DIR/reconstruction.json.
+
+#include "argument_parsing.hpp"
+#include "commands.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/pose.hpp>
+#include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+#include <icrkit/reconstruction/trajectory_error.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace icrkit::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ReconstructOptions {
+  std::string input;
+  std::string output;
+  std::string poses;
+  std::string gt_poses;
+  std::string images;
+  std::string crop;
+  double crop_size = 0.15;
+  bool no_plane = false;
+  bool no_registration = false;
+  bool no_jump_edges = false;
+  bool no_meshes = false;
+  int min_confidence = 0;
+  int min_amplitude = 0;
+  double max_range = 0.0;
+  double voxel = 0.004;
+  std::string smoothing_radius = "4x";
+  int passes = 1;
+};
+
+Eigen::AlignedBox3d parseBox(const std::string& option, const std::string& text) {
+  const std::vector<std::string> items = split(text, ',');
+  double v[6];
+  if (items.size() != 6)
+    throw InputError(option, "", "expected xmin,ymin,zmin,xmax,ymax,zmax in metres, got '" + text + "'");
+  for (int i = 0; i < 6; ++i)
+    if (!parseNumber(items[static_cast<std::size_t>(i)], v[i]))
+      throw InputError(option, "", "'" + items[static_cast<std::size_t>(i)] + "' is not a number");
+  const Eigen::AlignedBox3d box(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]));
+  if (!(v[0] < v[3] && v[1] < v[4] && v[2] < v[5]))
+    throw InputError(option, "", "expected each minimum below its maximum, got '" + text + "'");
+  return box;
+}
+
+nlohmann::json poseErrorJson(const reconstruction::PoseErrorSeries& s) {
+  constexpr double kDeg = 180.0 / M_PI;
+  return {{"median_sensor_translation_mm", s.median_sensor_translation_m * 1e3},
+          {"max_sensor_translation_mm", s.max_sensor_translation_m * 1e3},
+          {"median_object_translation_mm", s.median_object_translation_m * 1e3},
+          {"max_object_translation_mm", s.max_object_translation_m * 1e3},
+          {"median_rotation_deg", s.median_rotation_rad * kDeg},
+          {"max_rotation_deg", s.max_rotation_rad * kDeg}};
+}
+
+nlohmann::json meshingJson(const reconstruction::BallPivotingReport& r) {
+  return {{"triangles", r.triangles},       {"used_points", r.used_points},
+          {"unused_points", r.unused_points}, {"boundary_loops", r.boundary_loops},
+          {"components", r.components},     {"non_manifold_edges", r.non_manifold_edges}};
+}
+
+nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& context) {
+  reconstruction::ReconstructionParameters params;
+  params.pose_file = options.poses;
+  params.images_folder = options.images;
+  if (!options.crop.empty()) params.crop_box = parseBox("--crop", options.crop);
+  if (!(options.crop_size > 0) || !std::isfinite(options.crop_size))
+    throw InputError("--crop-size", "", "expected a positive half-size in metres");
+  params.auto_crop_half_size = options.crop_size;
+  params.remove_support_plane = !options.no_plane;
+  params.register_scans = !options.no_registration;
+  params.jump_edge_filter = !options.no_jump_edges;
+  params.make_meshes = !options.no_meshes;
+  if (options.min_confidence < 0 || options.min_confidence > 255)
+    throw InputError("--min-confidence", "", "expected 0..255");
+  if (options.min_amplitude < 0 || options.min_amplitude > 255) throw InputError("--min-amplitude", "", "expected 0..255");
+  params.confidence.min_confidence = options.min_confidence;
+  params.confidence.min_amplitude = options.min_amplitude;
+  if (!(options.max_range >= 0) || !std::isfinite(options.max_range))
+    throw InputError("--max-range", "", "expected 0 (none) or metres");
+  params.range.max_range = options.max_range;
+  if (!(options.voxel > 0) || !std::isfinite(options.voxel)) throw InputError("--voxel", "", "expected metres > 0");
+  params.fusion.resolution = options.voxel;
+  const Length radius = parseLength("--smoothing-radius", options.smoothing_radius);
+  params.smoothing.radius = radius.relative ? 0.0 : radius.value;
+  if (radius.relative) params.smoothing.radius_factor = radius.value;
+  if (options.passes < 1) throw InputError("--passes", "", "expected at least 1");
+  params.smoothing.passes = options.passes;
+
+  std::vector<StampedPose> truth;
+  if (!options.gt_poses.empty()) truth = readTumTrajectory(options.gt_poses);
+  const fs::path dir(options.output);
+  std::error_code error;
+  if (fs::exists(dir, error) && !fs::is_directory(dir, error))
+    throw InputError(options.output, "", "exists and is not a directory");
+
+  const reconstruction::ReconstructionResult result =
+      reconstruction::reconstructRawlog(options.input, params, context.progress());
+  const std::size_t n = result.poses.size();
+  if (!truth.empty() && truth.size() < n)
+    throw InputError(options.gt_poses, "scan " + std::to_string(truth.size()),
+                     "no ground-truth pose: the file has " + std::to_string(truth.size()) + " poses for " +
+                         std::to_string(n) + " scans");
+
+  // Everything is computed before the first file is written.
+  const double write_start = context.elapsedMs();
+  fs::create_directories(dir, error);
+  if (error) throw InputError(options.output, "", "cannot create the directory: " + error.message());
+  io::writePointCloud((dir / "cloud.ply").string(), result.cloud);
+  if (params.make_meshes) {
+    io::writeTriangleMesh((dir / "raw.ply").string(), result.raw_mesh);
+    io::writeTriangleMesh((dir / "filtered.ply").string(), result.filtered_mesh);
+  }
+  std::vector<StampedPose> poses;
+  for (std::size_t i = 0; i < n; ++i) poses.push_back({result.timestamps[i], result.poses[i]});
+  writeTumTrajectory((dir / "poses.txt").string(), poses);
+
+  constexpr double kDeg = 180.0 / M_PI;
+  nlohmann::json scans = nlohmann::json::array();
+  const auto& records = result.registration.scans;
+  for (std::size_t i = 0; i < n; ++i) {
+    const reconstruction::ScanFilterRecord& f = result.filters[i];
+    nlohmann::json scan{{"index", f.index},
+                        {"valid_pixels", f.valid_pixels},
+                        {"removed",
+                         {{"confidence", f.removed_confidence},
+                          {"jump_edges", f.removed_jump_edges},
+                          {"range", f.removed_range},
+                          {"crop", f.removed_crop},
+                          {"support_plane", f.removed_plane}}},
+                        {"support_plane_found", f.plane_found},
+                        {"object_points", f.object_points},
+                        {"fused_points", i < result.fusion.kept_per_scan.size() ? result.fusion.kept_per_scan[i] : 0}};
+    if (i < records.size()) {
+      const reconstruction::ScanRegistrationRecord& r = records[i];
+      scan["registration"] = {{"registered", r.registered},
+                              {"rejection", r.rejection},
+                              {"normalized_score", r.normalized_score},
+                              {"iterations", r.iterations},
+                              {"degenerate_directions", r.degenerate_directions},
+                              {"weakest_direction_ratio", r.weakest_direction_ratio},
+                              {"correction_mm", r.correction_translation_m * 1e3},
+                              {"correction_deg", r.correction_rotation_rad * kDeg},
+                              {"time_ms", r.time_ms}};
+    }
+    scans.push_back(scan);
+  }
+  std::size_t pairs_accepted = 0;
+  for (const auto& p : result.registration.pairs) pairs_accepted += p.accepted;
+  const auto& box = result.crop_box;
+  const auto& loop = result.registration.loop_closure;
+  nlohmann::json summary{
+      {"input", options.input},
+      {"output", options.output},
+      {"scans", n},
+      {"crop_box_m", {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()}},
+      {"crop_box_automatic", result.crop_box_automatic},
+      {"registration",
+       {{"enabled", params.register_scans},
+        {"registered_scans", [&] {
+           std::size_t k = 0;
+           for (const auto& r : records) k += r.registered;
+           return k;
+         }()},
+        {"pairs", result.registration.pairs.size()},
+        {"pairs_accepted", pairs_accepted},
+        {"loop_closure",
+         {{"attempted", loop.attempted},
+          {"accepted", loop.accepted},
+          {"rejection", loop.rejection},
+          {"discrepancy_mm", loop.discrepancy_translation_m * 1e3},
+          {"discrepancy_deg", loop.discrepancy_rotation_rad * kDeg}}},
+        {"pose_graph",
+         {{"iterations", result.registration.graph.iterations},
+          {"initial_chi2", result.registration.graph.initial_chi2},
+          {"final_chi2", result.registration.graph.final_chi2},
+          {"converged", result.registration.graph.converged}}},
+        {"model_points", result.registration.model_points},
+        {"ndt_resolutions_m", result.registration.resolutions},
+        {"first_scan_spacing_m", result.registration.first_scan_spacing_m}}},
+      {"fusion",
+       {{"points_in", result.fusion.points_in},
+        {"kept", result.fusion.kept},
+        {"dropped_free", result.fusion.dropped_free},
+        {"dropped_outside", result.fusion.dropped_outside},
+        {"voxel_m", params.fusion.resolution}}},
+      {"cloud_points", result.cloud.positions.size()},
+      {"per_scan", scans}};
+  if (params.make_meshes) {
+    summary["raw_mesh"] = meshingJson(result.raw_meshing);
+    summary["filtered_mesh"] = meshingJson(result.filtered_meshing);
+    summary["smoothing"] = {{"radius_m", result.smoothing.radius_m},
+                            {"passes", result.smoothing.passes},
+                            {"excluded", result.smoothing.excluded},
+                            {"cardinality_threshold", result.smoothing.cardinality_threshold},
+                            {"flatness_threshold", result.smoothing.flatness_threshold},
+                            {"mean_displacement_mm", result.smoothing.mean_displacement_m * 1e3}};
+  }
+  if (!truth.empty()) {
+    std::vector<Eigen::Isometry3d> true_poses;
+    for (std::size_t i = 0; i < n; ++i) true_poses.push_back(truth[i].pose);
+    const Eigen::Vector3d centre = result.crop_box.center();
+    const auto registered = reconstruction::trajectoryError(result.poses, true_poses, centre);
+    const auto reported = reconstruction::trajectoryError(result.reported_poses, true_poses, centre);
+    for (std::size_t i = 0; i < n; ++i)
+      summary["per_scan"][i]["registration_error"] = {
+          {"object_translation_mm", registered.aligned.object_translation_m[i] * 1e3},
+          {"sensor_translation_mm", registered.aligned.sensor_translation_m[i] * 1e3},
+          {"rotation_deg", registered.aligned.rotation_rad[i] * kDeg},
+          {"reported_object_translation_mm", reported.aligned.object_translation_m[i] * 1e3},
+          {"reported_rotation_deg", reported.aligned.rotation_rad[i] * kDeg}};
+    summary["registration_error"] = {{"ground_truth", options.gt_poses},
+                                     {"object_point_m", {centre.x(), centre.y(), centre.z()}},
+                                     {"registered", {{"raw", poseErrorJson(registered.raw)},
+                                                     {"aligned", poseErrorJson(registered.aligned)}}},
+                                     {"reported", {{"raw", poseErrorJson(reported.raw)},
+                                                   {"aligned", poseErrorJson(reported.aligned)}}}};
+  }
+  const auto& t = result.times;
+  summary["time_ms"] = {{"read", t.read_ms},         {"filters", t.filter_ms},
+                        {"registration", t.registration_ms}, {"fusion", t.fusion_ms},
+                        {"normals", t.normals_ms},   {"raw_mesh", t.raw_mesh_ms},
+                        {"smoothing", t.smoothing_ms}, {"filtered_mesh", t.filtered_mesh_ms},
+                        {"pipeline", t.total_ms},   {"write", context.elapsedMs() - write_start},
+                        {"total", context.elapsedMs()}};
+  writeSummaryFile((dir / "reconstruction.json").string(), summary);
+  return summary;
+}
+
+}  // namespace
+
+void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
+  auto* command = app.add_subcommand(
+      "reconstruct",
+      "Object reconstruction from an MRPT rawlog of range scans (Section II-A of Krug et al.): per-scan filters "
+      "(confidence, jump edges, range, crop box, support plane), scan-to-model 3D-NDT registration from the "
+      "reported poses, pair-wise registrations and loop closure in a pose graph (CHOLMOD), OctoMap fusion, then "
+      "ball pivoting of the fused cloud (raw mesh) and of its 3D-NDT smoothed, preselected version (filtered "
+      "mesh). Writes DIR/cloud.ply, DIR/raw.ply, DIR/filtered.ply, DIR/poses.txt (TUM, the rawlog's sensor "
+      "axes) and DIR/reconstruction.json");
+  auto options = std::make_shared<ReconstructOptions>();
+  command->add_option("input", options->input, "Rawlog of CObservation3DRangeScan (plain or gzip)")->required();
+  command->add_option("-o,--output", options->output, "Output directory (created; files replaced atomically)")
+      ->required();
+  command->add_option("--poses", options->poses,
+                      "TUM file whose i-th pose replaces the i-th scan's sensorPose (MRPT sensor axes)");
+  command->add_option("--gt-poses", options->gt_poses,
+                      "TUM file of true sensor poses: the summary then reports the registration error");
+  command->add_option("--images", options->images, "Folder of externally stored images (default: <rawlog>_Images)");
+  command->add_option("--crop", options->crop,
+                      "Object region xmin,ymin,zmin,xmax,ymax,zmax (metres, object frame). Default: a cube of "
+                      "--crop-size around the point the views' optical axes converge on");
+  command->add_option("--crop-size", options->crop_size, "Half edge of the automatic crop cube (metres)")
+      ->capture_default_str();
+  command->add_flag("--no-plane-removal", options->no_plane, "Keep the support plane (table, plate)");
+  command->add_flag("--no-registration", options->no_registration, "Fuse at the reported poses");
+  command->add_flag("--no-jump-edges", options->no_jump_edges, "Keep jump-edge (flying) pixels");
+  command->add_flag("--no-meshes", options->no_meshes, "Stop after the fused cloud");
+  command->add_option("--min-confidence", options->min_confidence, "Drop pixels below this confidence (0-255; 0 = off)")
+      ->capture_default_str();
+  command->add_option("--min-amplitude", options->min_amplitude,
+                      "Drop ToF pixels below this amplitude (0-255; 0 = off)")
+      ->capture_default_str();
+  command->add_option("--max-range", options->max_range, "Drop returns further than this (metres; 0 = off)")
+      ->capture_default_str();
+  command->add_option("--voxel", options->voxel, "OctoMap voxel edge of the fusion (metres)")->capture_default_str();
+  command
+      ->add_option("--smoothing-radius", options->smoothing_radius,
+                   "3D-NDT smoothing window: metres or a multiple of the median spacing")
+      ->capture_default_str();
+  command->add_option("--passes", options->passes, "3D-NDT smoothing passes")->capture_default_str();
+  command->callback([&runner, options] {
+    runner = [options](CommandContext& context) { context.emit(reconstruct(*options, context)); };
+  });
+}
+
+}  // namespace icrkit::app

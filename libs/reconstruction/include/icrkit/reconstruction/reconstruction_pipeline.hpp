@@ -1,0 +1,132 @@
+#pragma once
+/// \file
+/// Section II-A of Krug et al. as one call: a rawlog of range scans with
+/// robot-reported poses -> filtered scans -> scan-to-model 3D-NDT
+/// registration and pose graph -> OctoMap fusion -> the raw mesh (ball
+/// pivoting on the fused cloud) and the filtered mesh (3D-NDT smoothing and
+/// preselection, then ball pivoting). See docs/reconstruction.md.
+///
+/// The rawlog is streamed three times (poses, registration, fusion): memory
+/// holds one scan, the registration model and the fused cloud, never the
+/// recording.
+
+#include <icrkit/core/point_cloud.hpp>
+#include <icrkit/core/progress.hpp>
+#include <icrkit/core/triangle_mesh.hpp>
+#include <icrkit/ndt/normal_estimation.hpp>
+#include <icrkit/ndt/smoothing.hpp>
+#include <icrkit/reconstruction/ball_pivoting.hpp>
+#include <icrkit/reconstruction/octree_fusion.hpp>
+#include <icrkit/reconstruction/scan_filters.hpp>
+#include <icrkit/reconstruction/scan_sequence_registration.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace icrkit::reconstruction {
+
+struct ReconstructionParameters {
+  /// TUM file overriding the rawlog's sensor poses; images folder (see
+  /// RawlogReaderOptions).
+  std::string pose_file;
+  std::string images_folder;
+
+  /// Per-scan filters, in this order.
+  ConfidenceFilterParameters confidence;
+  bool jump_edge_filter = true;
+  JumpEdgeParameters jump_edges;
+  RangeGateParameters range;
+  /// The object's region (object frame, metres). Unset: a cube of
+  /// `auto_crop_half_size` around the point closest to all the views'
+  /// optical axes (the robot looks at the object).
+  std::optional<Eigen::AlignedBox3d> crop_box;
+  double auto_crop_half_size = 0.15;
+  /// Removes the table / support plate: the plane is searched among the
+  /// points of the box's lower half (band = half the box height).
+  bool remove_support_plane = true;
+  PlaneRemovalParameters support_plane;
+
+  /// false: keep the reported poses (no registration).
+  bool register_scans = true;
+  SequenceRegistrationParameters registration;
+
+  /// Fusion; its `bounds` are replaced by the crop box.
+  OctreeFusionParameters fusion;
+  /// Normals of the fused cloud, each facing its own view's sensor.
+  ndt::NormalEstimationParameters normals;
+  ndt::SmoothingParameters smoothing;
+  BallPivotingParameters meshing;
+  /// false: stop after the fused cloud (no meshes).
+  bool make_meshes = true;
+};
+
+/// What the filters did to one scan.
+struct ScanFilterRecord {
+  std::size_t index = 0;
+  double timestamp = 0.0;
+  std::size_t valid_pixels = 0;
+  std::size_t removed_confidence = 0;
+  std::size_t removed_jump_edges = 0;
+  std::size_t removed_range = 0;
+  std::size_t removed_crop = 0;
+  std::size_t removed_plane = 0;
+  bool plane_found = false;
+  std::size_t object_points = 0;
+};
+
+struct ReconstructionTimes {
+  double read_ms = 0.0;  ///< reading and unprojecting scans (all passes)
+  double filter_ms = 0.0;
+  double registration_ms = 0.0;
+  double fusion_ms = 0.0;
+  double normals_ms = 0.0;
+  double raw_mesh_ms = 0.0;
+  double smoothing_ms = 0.0;
+  double filtered_mesh_ms = 0.0;
+  double total_ms = 0.0;
+};
+
+struct ReconstructionResult {
+  /// Final sensor poses (object frame, MRPT sensor axes, like the rawlog's
+  /// sensorPose) and the scans' time stamps (seconds since 1970).
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<Eigen::Isometry3d> reported_poses;
+  std::vector<double> timestamps;
+  Eigen::AlignedBox3d crop_box;
+  bool crop_box_automatic = false;
+  std::vector<ScanFilterRecord> filters;
+  SequenceRegistrationResult registration;  ///< empty when registration is off
+  /// The fused cloud with normals and the attributes `view`, `pixel`,
+  /// `viewpoint_x/y/z`.
+  PointCloud cloud;
+  OctreeFusionReport fusion;
+  ndt::NormalEstimationSummary normals;
+  TriangleMesh raw_mesh;
+  BallPivotingReport raw_meshing;
+  /// The filtered mesh: smoothed positions, v3 normals facing the views,
+  /// and the attributes `cardinality`, `flatness`, `displacement`,
+  /// `excluded`.
+  TriangleMesh filtered_mesh;
+  ndt::SmoothingSummary smoothing;
+  BallPivotingReport filtered_meshing;
+  ReconstructionTimes times;
+};
+
+/// Runs the pipeline on a rawlog. Throws InputError naming the file and the
+/// scan for unreadable input (RawlogReader's errors, a pose file with too
+/// few poses, a scan without object points) and for bad parameters.
+/// Progress stages: "poses", "registration", "fusion", "normals", "raw mesh",
+/// "smoothing", "filtered mesh".
+ReconstructionResult reconstructRawlog(const std::string& rawlog, const ReconstructionParameters& params = {},
+                                       const ProgressCallback& progress = {});
+
+/// The point closest (least squares) to the lines through each pose's
+/// origin along its +x axis (MRPT's optical axis); nothing when the axes
+/// are (nearly) parallel.
+std::optional<Eigen::Vector3d> convergencePoint(const std::vector<Eigen::Isometry3d>& sensor_poses);
+
+}  // namespace icrkit::reconstruction

@@ -1,0 +1,197 @@
+#pragma once
+/// \file
+/// Registration of a sequence of scans into one model: each scan against the
+/// model grown from the scans before it (3D-NDT, starting from the pose the
+/// robot reported), then pair-wise registrations of the overlapping scans
+/// (the last/first pair among them: the loop closure) as the edges of a pose
+/// graph with the reported poses as weak priors, solved with CHOLMOD
+/// (pose_graph.hpp). See docs/reconstruction.md.
+///
+/// Streaming: a scan is handed over once; what is kept is the model (cube
+/// centroids) and each scan reduced to 2 mm cube centroids (a few thousand
+/// points), a fraction of the fused cloud.
+
+#include <icrkit/core/point_cloud.hpp>
+#include <icrkit/ndt/ndt_registration.hpp>
+#include <icrkit/reconstruction/pose_graph.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace icrkit::reconstruction {
+
+struct SequenceRegistrationParameters {
+  /// Scan-to-model and loop-closure NDT. The defaults (4/2/1 cm cells,
+  /// sources reduced to 2 mm cube centroids) suit objects of 5-30 cm
+  /// scanned at 1-3 mm spacing.
+  ndt::NdtParameters ndt = [] {
+    ndt::NdtParameters p;
+    p.resolutions = {0.04, 0.02, 0.01, 0.005};
+    p.source_voxel_size = 0.002;
+    return p;
+  }();
+  /// NDT cells finer than this many times the first scan's median point
+  /// spacing are dropped from `ndt.resolutions` (a 176 x 144 ToF camera
+  /// gives 2-3 mm spacing, too sparse for 5 mm cells). 0: keep all.
+  double min_resolution_spacing_factor = 3.5;
+  /// Each scan is kept for the pair-wise stage as the centroids of its
+  /// points in cubes of this edge (metres); <= 0: every point.
+  double kept_voxel_size = 0.001;
+  /// The model is kept as the centroids of the registered points in cubes
+  /// of this edge (metres): its size then follows the object's surface
+  /// area, not the number of scans.
+  double model_voxel_size = 0.0015;
+  /// Each scan starts from its reported pose corrected by the previous
+  /// scan's correction (arm drift and hand-eye errors change slowly).
+  bool propagate_correction = true;
+  /// A registration is rejected (the scan keeps its starting pose, stays out
+  /// of the model and gets a weak edge) when it moves the scan further than
+  /// these from its reported pose (metres, radians) ...
+  double max_correction_translation = 0.03;
+  double max_correction_rotation = 0.25;
+  /// ... or ends with a normalised NDT score below this (0: no point near a
+  /// Gaussian, ~1: every point on its cell's mean; partial overlap lowers it).
+  double min_normalized_score = 0.15;
+  /// Degeneracy: a registration's correction is kept only along the
+  /// directions its NDT Hessian constrains (eigenvalue at least this
+  /// fraction of the largest, rotations scaled by the points' radius); the
+  /// rest comes from the reported pose. A cup or a bottle on a turntable
+  /// does not show its rotation about its own axis. 0: keep everything.
+  double degeneracy_ratio = 0.01;
+  /// Pose graph edges of pair-wise registrations carry the NDT Hessian as
+  /// their information (scaled so that the best-constrained translation has
+  /// `registration_sigma_translation`): unobserved directions are then left
+  /// to the priors. false: a diagonal information from the two sigmas.
+  bool hessian_information = true;
+  /// Pairwise refinement after the sequential pass: every pair of scans
+  /// whose points share at least this fraction of 1 cm cubes (of the
+  /// smaller scan, at the scan-to-model poses) is registered pair-wise, up
+  /// to `max_partners` best-overlapping partners per scan; the pairs become
+  /// the pose graph's edges. Sequential scan-to-model registration leaves a
+  /// slow drift around a closed circle; the pairs (the last/first pair among
+  /// them: the loop closure) spread it.
+  double min_pair_overlap = 0.3;
+  int max_partners = 4;
+  /// Always try the last scan against the first (turntable, closed circle).
+  bool loop_closure = true;
+  /// Standard deviations of an accepted registration's relative pose
+  /// (metres, radians): the information of the pose graph's edges.
+  double registration_sigma_translation = 0.0005;
+  double registration_sigma_rotation = 0.002;
+  /// Standard deviations of the reported poses, used as priors that place
+  /// the registered model in the robot's frame (a least-squares fit to all
+  /// reported poses rather than trusting the first). <= 0: no priors, the
+  /// first scan is held at its reported pose instead.
+  double prior_sigma_translation = 0.005;
+  double prior_sigma_rotation = 0.01;
+  /// Standard deviations of the robot's motion between consecutive scans
+  /// (metres, radians): a robot arm or turntable repeats relative motions
+  /// far better than it knows its absolute pose (hand-eye and mounting
+  /// errors are constant). Edges between consecutive reported poses. <= 0:
+  /// none.
+  double odometry_sigma_translation = 0.0005;
+  double odometry_sigma_rotation = 0.001;
+  /// Robust kernel etc. of the final optimisation; registration and loop
+  /// closure edges are robust, priors and odometry are not.
+  PoseGraphParameters graph = [] {
+    PoseGraphParameters p;
+    p.kernel = RobustKernel::Cauchy;
+    return p;
+  }();
+};
+
+/// What happened to one scan.
+struct ScanRegistrationRecord {
+  std::size_t index = 0;
+  std::size_t points = 0;                                          ///< handed over
+  Eigen::Isometry3d initial_pose = Eigen::Isometry3d::Identity();  ///< reported
+  Eigen::Isometry3d start_pose = Eigen::Isometry3d::Identity();    ///< NDT's initial guess
+  Eigen::Isometry3d model_pose = Eigen::Isometry3d::Identity();    ///< after scan-to-model
+  bool registered = false;  ///< false for the first scan and for rejected registrations
+  std::string rejection;    ///< why a registration was rejected; empty otherwise
+  double normalized_score = 0.0;
+  std::vector<int> iterations;
+  bool converged = false;
+  int degenerate_directions = 0;          ///< unobserved directions left at the start pose
+  double weakest_direction_ratio = 1.0;   ///< smallest / largest scaled Hessian eigenvalue
+  double correction_translation_m = 0.0;  ///< model_pose vs initial_pose
+  double correction_rotation_rad = 0.0;
+  std::size_t model_points = 0;  ///< model size the scan was registered against
+  double time_ms = 0.0;
+};
+
+struct LoopClosureRecord {
+  bool attempted = false;
+  bool accepted = false;
+  std::string rejection;
+  std::size_t from = 0, to = 0;  ///< first and last scan
+  double normalized_score = 0.0;
+  /// How far the loop closure's relative pose is from the one implied by
+  /// the scan-to-model poses (the drift it corrects).
+  double discrepancy_translation_m = 0.0;
+  double discrepancy_rotation_rad = 0.0;
+};
+
+struct PairRegistrationRecord {
+  std::size_t from = 0, to = 0;  ///< target scan, source scan
+  double overlap = 0.0;          ///< shared 1 cm cubes / cubes of the smaller scan
+  bool accepted = false;
+  std::string rejection;
+  double normalized_score = 0.0;
+  int degenerate_directions = 0;
+  double weakest_direction_ratio = 1.0;  ///< smallest / largest scaled Hessian eigenvalue
+  /// The registered pose of scan `to` in scan `from`'s frame (when accepted).
+  Eigen::Isometry3d measurement = Eigen::Isometry3d::Identity();
+  /// How far the pair's relative pose is from the scan-to-model poses'.
+  double discrepancy_translation_m = 0.0;
+  double discrepancy_rotation_rad = 0.0;
+};
+
+struct SequenceRegistrationResult {
+  std::vector<Eigen::Isometry3d> poses;  ///< final, scan -> model frame, in input order
+  std::vector<ScanRegistrationRecord> scans;
+  LoopClosureRecord loop_closure;
+  std::vector<PairRegistrationRecord> pairs;
+  PoseGraphReport graph;
+  std::size_t model_points = 0;  ///< final model size (voxel centroids)
+  std::vector<double> resolutions;  ///< the NDT cell sizes used (metres)
+  double first_scan_spacing_m = 0.0;  ///< median nearest-neighbour spacing of the first scan
+  double time_ms = 0.0;          ///< registrations, loop closure and graph
+};
+
+class SequenceRegistration {
+public:
+  /// Throws InputError for parameters out of range.
+  explicit SequenceRegistration(const SequenceRegistrationParameters& params = {});
+  ~SequenceRegistration();
+  SequenceRegistration(const SequenceRegistration&) = delete;
+  SequenceRegistration& operator=(const SequenceRegistration&) = delete;
+
+  /// Registers the next scan: `points` in the scan's own frame,
+  /// `initial_pose` its reported pose (scan -> model frame). Throws
+  /// InputError naming the scan for an empty cloud, a non-finite coordinate
+  /// or a non-finite pose. NDT failures are not errors: the scan is
+  /// recorded as rejected.
+  const ScanRegistrationRecord& add(const PointCloud& points, const Eigen::Isometry3d& initial_pose);
+
+  std::size_t size() const;
+
+  /// Loop closure and pose graph; the object cannot be used afterwards.
+  /// Throws InputError when no scan was added.
+  SequenceRegistrationResult finish();
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Convenience: every scan at once.
+SequenceRegistrationResult registerScanSequence(const std::vector<PointCloud>& scans,
+                                                const std::vector<Eigen::Isometry3d>& initial_poses,
+                                                const SequenceRegistrationParameters& params = {});
+
+}  // namespace icrkit::reconstruction

@@ -1,0 +1,260 @@
+#include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/reconstruction/rawlog_reader.hpp>
+
+#include <Eigen/Eigenvalues>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace icrkit::reconstruction {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+RawlogReaderOptions readerOptions(const ReconstructionParameters& params, bool unproject) {
+  RawlogReaderOptions options;
+  options.pose_file = params.pose_file;
+  options.images_folder = params.images_folder;
+  options.unproject = unproject;
+  return options;
+}
+
+// The filters of one scan: the sensor filters change `scan` (every point
+// left still carves free space in the fusion); cropping and support-plane
+// removal only decide which of its points belong to the object (`object`,
+// one flag per point of `scan.points`).
+ScanFilterRecord filterScan(RangeScan& scan, const ReconstructionParameters& params, const Eigen::AlignedBox3d& box,
+                            std::vector<std::uint8_t>& object) {
+  ScanFilterRecord record;
+  record.index = scan.index;
+  record.timestamp = scan.timestamp;
+  record.valid_pixels = scan.validPixels();
+  record.removed_confidence = filterConfidence(scan, params.confidence).removed;
+  if (params.jump_edge_filter) record.removed_jump_edges = filterJumpEdges(scan, params.jump_edges).removed;
+  record.removed_range = filterRange(scan, params.range).removed;
+
+  RangeScan cropped = scan;
+  record.removed_crop = filterCropBox(cropped, box).removed;
+  if (params.remove_support_plane) {
+    PlaneRemovalParameters plane = params.support_plane;
+    // The table or plate lies somewhere in the box's lower half.
+    plane.band = 0.5 * box.sizes().z();
+    const PlaneRemovalReport report = removeSupportPlane(cropped, box, plane);
+    record.removed_plane = report.removed;
+    record.plane_found = report.found;
+  }
+  const std::size_t pixel_count = static_cast<std::size_t>(scan.width) * static_cast<std::size_t>(scan.height);
+  std::vector<std::uint8_t> kept_pixel(pixel_count, 0);
+  for (std::uint32_t pixel : cropped.pixels) kept_pixel[pixel] = 1;
+  object.assign(scan.points.size(), 0);
+  for (std::size_t k = 0; k < scan.points.size(); ++k) object[k] = kept_pixel[scan.pixels[k]];
+  record.object_points = cropped.points.size();
+  return record;
+}
+
+// The object's points in the sensor's own frame (the registration's input).
+PointCloud objectPointsInSensorFrame(const RangeScan& scan, const std::vector<std::uint8_t>& object) {
+  PointCloud cloud;
+  const Eigen::Isometry3d to_sensor = scan.sensor_pose.inverse();
+  for (std::size_t k = 0; k < scan.points.size(); ++k)
+    if (object[k]) cloud.positions.push_back(to_sensor * scan.points[k]);
+  return cloud;
+}
+
+void orientTowardsViewpoints(PointCloud& cloud) {
+  const AttributeSet& a = cloud.attributes;
+  if (!a.has("viewpoint_x") || !a.has("viewpoint_y") || !a.has("viewpoint_z") || cloud.normals.empty()) return;
+  const auto& vx = a.get("viewpoint_x").values;
+  const auto& vy = a.get("viewpoint_y").values;
+  const auto& vz = a.get("viewpoint_z").values;
+  for (std::size_t i = 0; i < cloud.positions.size(); ++i)
+    if (cloud.normals[i].dot(Eigen::Vector3d(vx[i], vy[i], vz[i]) - cloud.positions[i]) < 0)
+      cloud.normals[i] = -cloud.normals[i];
+}
+
+std::vector<Eigen::Vector3d> viewpointsOf(const PointCloud& cloud) {
+  std::vector<Eigen::Vector3d> viewpoints;
+  const AttributeSet& a = cloud.attributes;
+  const auto& vx = a.get("viewpoint_x").values;
+  const auto& vy = a.get("viewpoint_y").values;
+  const auto& vz = a.get("viewpoint_z").values;
+  viewpoints.reserve(cloud.positions.size());
+  for (std::size_t i = 0; i < cloud.positions.size(); ++i) viewpoints.emplace_back(vx[i], vy[i], vz[i]);
+  return viewpoints;
+}
+
+void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
+  if (progress) progress(stage, done, total);
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector3d> convergencePoint(const std::vector<Eigen::Isometry3d>& sensor_poses) {
+  // Minimises the summed squared distances to the lines o + s d:
+  // sum (I - d d^T) x = sum (I - d d^T) o.
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const Eigen::Isometry3d& pose : sensor_poses) {
+    const Eigen::Vector3d d = pose.rotation().col(0).normalized();
+    const Eigen::Matrix3d p = Eigen::Matrix3d::Identity() - d * d.transpose();
+    a += p;
+    b += p * pose.translation();
+  }
+  if (sensor_poses.size() < 2) return std::nullopt;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(a);
+  // Parallel axes leave the point free along them.
+  if (!(eigen.eigenvalues()(0) > 1e-3 * eigen.eigenvalues()(2))) return std::nullopt;
+  const Eigen::Vector3d x = a.ldlt().solve(b);
+  if (!x.allFinite()) return std::nullopt;
+  return x;
+}
+
+ReconstructionResult reconstructRawlog(const std::string& rawlog, const ReconstructionParameters& params,
+                                       const ProgressCallback& progress) {
+  const auto total_start = Clock::now();
+  if (!(params.auto_crop_half_size > 0) || !std::isfinite(params.auto_crop_half_size))
+    throw InputError("auto_crop_half_size", "", "expected a positive length in metres");
+  if (params.crop_box && (params.crop_box->isEmpty() || !params.crop_box->min().allFinite() ||
+                          !params.crop_box->max().allFinite()))
+    throw InputError("crop box", "", "expected finite corners with min < max");
+  ReconstructionResult result;
+  ReconstructionTimes& times = result.times;
+
+  // Pass 0: the poses only, for the automatic crop box and the scan count.
+  {
+    const auto start = Clock::now();
+    RawlogReader reader(rawlog, readerOptions(params, false));
+    while (auto scan = reader.next()) {
+      result.reported_poses.push_back(scan->sensor_pose);
+      result.timestamps.push_back(scan->timestamp);
+      report(progress, "poses", result.reported_poses.size(), 0);
+    }
+    times.read_ms += msSince(start);
+  }
+  const std::size_t n = result.reported_poses.size();
+  if (params.crop_box) {
+    result.crop_box = *params.crop_box;
+  } else {
+    const std::optional<Eigen::Vector3d> centre = convergencePoint(result.reported_poses);
+    if (!centre)
+      throw InputError(rawlog, "", "cannot place the crop box: the views' optical axes do not converge on an object "
+                                   "(give the object's region explicitly)");
+    const Eigen::Vector3d half = Eigen::Vector3d::Constant(params.auto_crop_half_size);
+    result.crop_box = Eigen::AlignedBox3d(*centre - half, *centre + half);
+    result.crop_box_automatic = true;
+  }
+
+  // Pass 1: filters and scan-to-model registration.
+  std::optional<SequenceRegistration> registration;
+  if (params.register_scans) registration.emplace(params.registration);
+  {
+    RawlogReader reader(rawlog, readerOptions(params, true));
+    for (std::size_t i = 0; i < n; ++i) {
+      auto start = Clock::now();
+      std::optional<RangeScan> scan = reader.next();
+      if (!scan) throw InputError(rawlog, "scan " + std::to_string(i), "the file changed while it was being read");
+      times.read_ms += msSince(start);
+      start = Clock::now();
+      std::vector<std::uint8_t> object;
+      result.filters.push_back(filterScan(*scan, params, result.crop_box, object));
+      times.filter_ms += msSince(start);
+      if (result.filters.back().object_points == 0)
+        throw InputError(rawlog, "scan " + std::to_string(i),
+                         "no points left inside the crop box after filtering (check the crop box and the poses)");
+      if (registration) {
+        start = Clock::now();
+        registration->add(objectPointsInSensorFrame(*scan, object), scan->sensor_pose);
+        times.registration_ms += msSince(start);
+      }
+      report(progress, "registration", i + 1, n);
+    }
+  }
+  if (registration) {
+    const auto start = Clock::now();
+    result.registration = registration->finish();
+    registration.reset();
+    result.poses = result.registration.poses;
+    times.registration_ms += msSince(start);
+  } else {
+    result.poses = result.reported_poses;
+  }
+
+  // Pass 2: fusion of the whole scans at their registered poses.
+  OctreeFusionParameters fusion_params = params.fusion;
+  fusion_params.bounds = result.crop_box;
+  {
+    OctreeFusion fusion(fusion_params);
+    RawlogReader reader(rawlog, readerOptions(params, true));
+    for (std::size_t i = 0; i < n; ++i) {
+      auto start = Clock::now();
+      std::optional<RangeScan> scan = reader.next();
+      if (!scan) throw InputError(rawlog, "scan " + std::to_string(i), "the file changed while it was being read");
+      times.read_ms += msSince(start);
+      start = Clock::now();
+      std::vector<std::uint8_t> object;
+      filterScan(*scan, params, result.crop_box, object);
+      times.filter_ms += msSince(start);
+      start = Clock::now();
+      const Eigen::Isometry3d correction = result.poses[i] * scan->sensor_pose.inverse();
+      for (Eigen::Vector3d& p : scan->points) p = correction * p;
+      scan->sensor_pose = result.poses[i];
+      fusion.insert(*scan, object);
+      times.fusion_ms += msSince(start);
+      report(progress, "fusion", i + 1, n);
+    }
+    const auto start = Clock::now();
+    OctreeFusionResult fused = fusion.finish();
+    times.fusion_ms += msSince(start);
+    result.cloud = std::move(fused.points);
+    result.fusion = fused.report;
+  }
+  if (result.cloud.positions.size() < 3)
+    throw InputError(rawlog, "", "only " + std::to_string(result.cloud.positions.size()) +
+                                     " points survived the fusion: nothing to reconstruct");
+
+  {
+    const auto start = Clock::now();
+    report(progress, "normals", 0, 1);
+    ndt::NormalEstimationParameters normals = params.normals;
+    normals.viewpoints = viewpointsOf(result.cloud);
+    result.normals = ndt::estimateNormals(result.cloud, normals);
+    times.normals_ms = msSince(start);
+  }
+  if (params.make_meshes) {
+    auto start = Clock::now();
+    report(progress, "raw mesh", 0, 1);
+    BallPivotingResult raw = ballPivoting(result.cloud, params.meshing);
+    result.raw_mesh = std::move(raw.mesh);
+    result.raw_meshing = raw.report;
+    times.raw_mesh_ms = msSince(start);
+
+    start = Clock::now();
+    PointCloud smoothed = result.cloud;
+    result.smoothing = ndt::smoothPointCloud(smoothed, params.smoothing, [&](const std::string&, std::size_t d, std::size_t t) {
+      report(progress, "smoothing", d, t);
+    });
+    // v3 normals face each point's own sensor, like the raw cloud's.
+    orientTowardsViewpoints(smoothed);
+    times.smoothing_ms = msSince(start);
+
+    start = Clock::now();
+    report(progress, "filtered mesh", 0, 1);
+    BallPivotingResult filtered = ballPivoting(smoothed, params.meshing);
+    result.filtered_mesh = std::move(filtered.mesh);
+    result.filtered_meshing = filtered.report;
+    times.filtered_mesh_ms = msSince(start);
+  }
+  times.total_ms = msSince(total_start);
+  return result;
+}
+
+}  // namespace icrkit::reconstruction
