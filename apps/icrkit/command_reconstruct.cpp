@@ -170,6 +170,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
       {"scans", n},
       {"crop_box_m", {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()}},
       {"crop_box_automatic", result.crop_box_automatic},
+      {"scan_spacing_m", result.scan_spacing_m},
       {"registration",
        {{"enabled", params.register_scans},
         {"registered_scans", [&] {
@@ -202,6 +203,11 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
       {"cloud_points", result.cloud.positions.size()},
       {"per_scan", scans}};
   if (params.make_meshes) {
+    summary["mesh_radii_m"] = [&] {
+      std::vector<double> radii;
+      for (const auto& pass : result.raw_meshing.passes) radii.push_back(pass.radius);
+      return radii;
+    }();
     summary["raw_mesh"] = meshingJson(result.raw_meshing);
     summary["filtered_mesh"] = meshingJson(result.filtered_meshing);
     summary["smoothing"] = {{"radius_m", result.smoothing.radius_m},
@@ -281,7 +287,7 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--voxel", options->voxel, "OctoMap voxel edge of the fusion (metres)")->capture_default_str();
   command
       ->add_option("--smoothing-radius", options->smoothing_radius,
-                   "3D-NDT smoothing window: metres or a multiple of the median spacing")
+                   "3D-NDT smoothing window: metres or a multiple of a single scan's median point spacing")
       ->capture_default_str();
   command->add_option("--passes", options->passes, "3D-NDT smoothing passes")->capture_default_str();
   command->callback([&runner, options] {

@@ -1,6 +1,7 @@
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/kd_tree.hpp>
 #include <icrkit/reconstruction/rawlog_reader.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -170,6 +171,12 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
       if (result.filters.back().object_points == 0)
         throw InputError(rawlog, "scan " + std::to_string(i),
                          "no points left inside the crop box after filtering (check the crop box and the poses)");
+      if (i == 0) {
+        std::vector<Eigen::Vector3d> object_points;
+        for (std::size_t k = 0; k < scan->points.size(); ++k)
+          if (object[k]) object_points.push_back(scan->points[k]);
+        result.scan_spacing_m = nearestNeighbourSpacing(object_points).median;
+      }
       if (registration) {
         start = Clock::now();
         registration->add(objectPointsInSensorFrame(*scan, object), scan->sensor_pose);
@@ -239,7 +246,10 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
 
     start = Clock::now();
     PointCloud smoothed = result.cloud;
-    result.smoothing = ndt::smoothPointCloud(smoothed, params.smoothing, [&](const std::string&, std::size_t d, std::size_t t) {
+    ndt::SmoothingParameters smoothing = params.smoothing;
+    if (!(smoothing.radius > 0) && result.scan_spacing_m > 0)
+      smoothing.radius = smoothing.radius_factor * result.scan_spacing_m;
+    result.smoothing = ndt::smoothPointCloud(smoothed, smoothing, [&](const std::string&, std::size_t d, std::size_t t) {
       report(progress, "smoothing", d, t);
     });
     // v3 normals face each point's own sensor, like the raw cloud's.

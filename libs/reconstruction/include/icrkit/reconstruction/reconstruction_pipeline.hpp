@@ -58,7 +58,14 @@ struct ReconstructionParameters {
   OctreeFusionParameters fusion;
   /// Normals of the fused cloud, each facing its own view's sensor.
   ndt::NormalEstimationParameters normals;
+  /// Smoothing: with radius <= 0 the window is radius_factor times the
+  /// spacing of a single scan (median nearest-neighbour distance of the
+  /// first scan's object points), not of the fused cloud: many overlapping
+  /// views make the fused cloud far denser than its noise is thin, and a
+  /// window of a few fused spacings would not reach across the noise.
   ndt::SmoothingParameters smoothing;
+  /// Ball pivoting of both clouds (radii relative to each cloud's own
+  /// spacing by default: the smoothed layer is thin and dense).
   BallPivotingParameters meshing;
   /// false: stop after the fused cloud (no meshes).
   bool make_meshes = true;
@@ -98,6 +105,7 @@ struct ReconstructionResult {
   std::vector<double> timestamps;
   Eigen::AlignedBox3d crop_box;
   bool crop_box_automatic = false;
+  double scan_spacing_m = 0.0;  ///< median point spacing of the first scan's object points
   std::vector<ScanFilterRecord> filters;
   SequenceRegistrationResult registration;  ///< empty when registration is off
   /// The fused cloud with normals and the attributes `view`, `pixel`,

@@ -1,0 +1,151 @@
+// The whole pipeline on a simulated Kinect / setup B recording of the cup
+// with the simulator's default robot pose errors: registration error
+// against the ground truth, fused cloud against the CAD mesh, meshes and
+// their attributes, and bad input.
+
+#include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+
+#include "simulated_recordings.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/mesh_distance.hpp>
+#include <icrkit/core/pose.hpp>
+#include <icrkit/reconstruction/trajectory_error.hpp>
+#include <icrkit/sim/range_sensor.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace icrkit::reconstruction {
+namespace {
+
+using testing_support::scratchFolder;
+using testing_support::simulatedRecording;
+
+constexpr double kDeg = M_PI / 180.0;
+
+TEST(ReconstructionPipeline, SimulatedCupRecording) {
+  const std::string dir = simulatedRecording(12, false);
+  ReconstructionParameters params;
+  std::size_t progress_calls = 0;
+  const ReconstructionResult r =
+      reconstructRawlog(dir + "/scans.rawlog", params, [&](const std::string&, std::size_t, std::size_t) { ++progress_calls; });
+  ASSERT_EQ(r.poses.size(), 12u);
+  EXPECT_GT(progress_calls, 24u);
+  EXPECT_TRUE(r.crop_box_automatic);
+
+  std::vector<Eigen::Isometry3d> truth;
+  for (const StampedPose& p : readTumTrajectory(dir + "/ground_truth.txt")) truth.push_back(p.pose);
+  const TrajectoryError registered = trajectoryError(r.poses, truth, r.crop_box.center());
+  const TrajectoryError reported = trajectoryError(r.reported_poses, truth, r.crop_box.center());
+  std::printf("registered: sensor median %.3f mm (max %.3f), rotation median %.3f deg (max %.3f); reported: %.3f mm, "
+              "%.3f deg; %zu/%zu pairs accepted\n",
+              registered.aligned.median_sensor_translation_m * 1e3, registered.aligned.max_sensor_translation_m * 1e3,
+              registered.aligned.median_rotation_rad / kDeg, registered.aligned.max_rotation_rad / kDeg,
+              reported.aligned.median_sensor_translation_m * 1e3, reported.aligned.median_rotation_rad / kDeg,
+              std::size_t(std::count_if(r.registration.pairs.begin(), r.registration.pairs.end(),
+                                        [](const PairRegistrationRecord& p) { return p.accepted; })),
+              r.registration.pairs.size());
+  EXPECT_LE(registered.aligned.median_sensor_translation_m, 1e-3);
+  EXPECT_LE(registered.aligned.median_rotation_rad, 0.3 * kDeg);
+  EXPECT_TRUE(r.registration.graph.converged);
+
+  // The fused cloud against the CAD mesh, after the best-fit alignment of
+  // the trajectory (the registration cannot see the robot's constant
+  // hand-eye offset).
+  TriangleMesh cloud_as_mesh;
+  for (const Eigen::Vector3d& p : r.cloud.positions) cloud_as_mesh.vertices.positions.push_back(registered.alignment * p);
+  const TriangleMesh cad = io::readTriangleMesh(dir + "/object.ply");
+  MeshDistanceParameters distance_params;
+  distance_params.samples = 0;
+  const MeshDistanceStatistics d = meshDistance(cloud_as_mesh, cad, distance_params);
+  const double sigma = sim::rangeNoiseSigma(sim::kinectV1(), 0.7, 0.0);
+  std::printf("fused %zu points: mean distance to the CAD mesh %.3f mm (median %.3f, max %.2f); modelled noise at "
+              "0.7 m %.3f mm\n",
+              r.cloud.positions.size(), d.mean * 1e3, d.median * 1e3, d.max * 1e3, sigma * 1e3);
+  EXPECT_LE(d.mean, 1.5 * sigma);
+
+  // Attributes: the fusion's on the cloud and both meshes; preselection's on the filtered mesh.
+  for (const char* name : {"view", "pixel", "viewpoint_x", "viewpoint_y", "viewpoint_z"}) {
+    EXPECT_TRUE(r.cloud.attributes.has(name)) << name;
+    EXPECT_TRUE(r.raw_mesh.vertices.attributes.has(name)) << name;
+  }
+  EXPECT_TRUE(r.cloud.hasNormals());
+  EXPECT_EQ(r.raw_mesh.vertices.positions.size(), r.cloud.positions.size());
+  EXPECT_GT(r.raw_mesh.faces.size(), r.cloud.positions.size() / 2);
+  EXPECT_TRUE(r.filtered_mesh.vertices.attributes.has("excluded"));
+  EXPECT_GT(r.filtered_mesh.faces.size(), r.cloud.positions.size() / 2);
+  EXPECT_EQ(r.raw_meshing.non_manifold_edges, 0u);
+  // The support plate is gone: nothing below the object's base (z = 0).
+  std::size_t below = 0;
+  for (const Eigen::Vector3d& p : r.cloud.positions) below += (registered.alignment * p).z() < -0.003;
+  EXPECT_LT(below, r.cloud.positions.size() / 1000) << below << " points below the object";
+}
+
+TEST(ReconstructionPipeline, BadInputNamesTheFileAndScan) {
+  const std::string dir = simulatedRecording(3, true);
+  const std::filesystem::path scratch = scratchFolder("pipeline_bad_input");
+  // A pose file with too few poses.
+  {
+    std::ofstream poses(scratch / "short.txt");
+    poses << "0 0 0 0 0 0 0 1\n";
+  }
+  ReconstructionParameters params;
+  params.pose_file = (scratch / "short.txt").string();
+  params.make_meshes = false;
+  try {
+    reconstructRawlog(dir + "/scans.rawlog", params);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scan 1"), std::string::npos) << e.what();
+  }
+  // A crop box the object is not in.
+  params = {};
+  params.crop_box = Eigen::AlignedBox3d(Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(6, 6, 6));
+  try {
+    reconstructRawlog(dir + "/scans.rawlog", params);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scan 0"), std::string::npos) << e.what();
+  }
+  // A truncated rawlog.
+  {
+    std::ifstream in(dir + "/scans.rawlog", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream out(scratch / "truncated.rawlog", std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  }
+  EXPECT_THROW(reconstructRawlog((scratch / "truncated.rawlog").string()), InputError);
+  EXPECT_THROW(reconstructRawlog((scratch / "missing.rawlog").string()), InputError);
+  std::filesystem::remove_all(scratch);
+}
+
+TEST(ReconstructionPipeline, ConvergencePointOfViewsAroundAnObject) {
+  std::vector<Eigen::Isometry3d> poses;
+  const Eigen::Vector3d target(0.1, -0.2, 0.05);
+  for (int i = 0; i < 8; ++i) {
+    const double a = 2 * M_PI * i / 8;
+    const Eigen::Vector3d eye = target + Eigen::Vector3d(0.7 * std::cos(a), 0.7 * std::sin(a), 0.3);
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d forward = (target - eye).normalized();
+    const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(forward).normalized();
+    pose.linear().col(0) = forward;  // MRPT: +x along the optical axis
+    pose.linear().col(1) = left;
+    pose.linear().col(2) = forward.cross(left);
+    pose.translation() = eye;
+    poses.push_back(pose);
+  }
+  const auto point = convergencePoint(poses);
+  ASSERT_TRUE(point.has_value());
+  EXPECT_LT((*point - target).norm(), 1e-9);
+  EXPECT_FALSE(convergencePoint({poses.front()}).has_value());
+  EXPECT_FALSE(convergencePoint({poses.front(), poses.front()}).has_value());  // parallel axes
+}
+
+}  // namespace
+}  // namespace icrkit::reconstruction
