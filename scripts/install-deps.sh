@@ -14,6 +14,8 @@ packages=(
   libsuitesparse-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libtbb-dev libfmt-dev libspdlog-dev
+  # MRPT's sample datasets: the reader test loads its tests_rgbd.rawlog.
+  mrpt-common
 )
 
 missing=()

@@ -7,32 +7,34 @@
 
 #include <filesystem>
 #include <map>
+#include <tuple>
 #include <string>
 #include <system_error>
 #include <unistd.h>
 
 namespace icrkit::reconstruction::testing_support {
 
-/// A Kinect/setup B recording of the cup; `perfect`: reported poses are the true ones.
-inline std::string simulatedRecording(int views, bool perfect) {
+/// A recording of the cup, by default with the Kinect in setup B (the
+/// SR4000 uses setup A); `perfect`: reported poses are the true ones.
+inline std::string simulatedRecording(int views, bool perfect, sim::SensorType sensor = sim::SensorType::Kinect) {
   // Removed when the test process ends.
-  struct Made : std::map<std::pair<int, bool>, std::string> {
+  struct Made : std::map<std::tuple<int, bool, int>, std::string> {
     ~Made() {
       std::error_code error;
       for (const auto& entry : *this) std::filesystem::remove_all(entry.second, error);
     }
   };
   static Made made;
-  const auto key = std::make_pair(views, perfect);
+  const auto key = std::make_tuple(views, perfect, static_cast<int>(sensor));
   auto it = made.find(key);
   if (it != made.end()) return it->second;
   const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                     ("icrkit_scanio_" + std::to_string(::getpid()) + "_" + std::to_string(views) +
-                                     (perfect ? "_perfect" : "_noisy"));
+                                     (perfect ? "_perfect" : "_noisy") + "_" + sim::sensorTypeName(sensor));
   sim::DatasetSpec spec;
   spec.object = "cup";
-  spec.sensor = sim::SensorType::Kinect;
-  spec.acquisition.setup = sim::Setup::B;
+  spec.sensor = sensor;
+  spec.acquisition.setup = sensor == sim::SensorType::Kinect ? sim::Setup::B : sim::Setup::A;
   spec.acquisition.views = views;
   if (perfect) spec.acquisition.errors = sim::perfectPoses();
   sim::simulateDataset(spec, dir.string());

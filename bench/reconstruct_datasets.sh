@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Timed `icrkit reconstruct` runs on the paper's nine simulated datasets
+# (datasets/paper_datasets.json): registration error against the ground
+# truth, fused cloud against the CAD mesh, stage times. Prints one
+# Markdown table row per dataset (docs/performance.md).
+#   bench/reconstruct_datasets.sh BUILD_DIR [WORK_DIR]
+set -euo pipefail
+build="${1:?usage: $0 BUILD_DIR [WORK_DIR]}"
+work="${2:-$(mktemp -d)}"
+icrkit="$build/apps/icrkit/icrkit"
+mkdir -p "$work"
+"$icrkit" datasets list --json >"$work/list.json"
+names=$(/usr/bin/python3 -c "import json; print(' '.join(d['name'] for d in json.load(open('$work/list.json'))['datasets']))")
+echo "| dataset | scans | reported: sensor mm / deg (median, aligned) | registered: sensor mm / deg (median) | max | pairs accepted | fused points | cloud -> CAD mean mm | registration s | total s |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+for name in $names; do
+  [ -f "$work/$name/scans.rawlog" ] || "$icrkit" datasets make --only "$name" -o "$work" -q >/dev/null
+  "$icrkit" reconstruct "$work/$name/scans.rawlog" -o "$work/$name.rec" --gt-poses "$work/$name/ground_truth.txt" \
+    --json -q >"$work/$name.json"
+  PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 - "$work/$name.json" "$work/$name.rec/cloud.ply" "$work/$name/object.ply" "$name" <<'PY'
+import json, sys
+import numpy as np, open3d as o3d
+d = json.load(open(sys.argv[1]))
+e = d['registration_error']
+reg, rep = e['registered']['aligned'], e['reported']['aligned']
+# The cloud in the ground truth's frame (best-fit alignment of the trajectory), against the CAD mesh.
+est = [l.split() for l in open(sys.argv[1].replace('.json', '.rec/poses.txt')) if l.strip() and not l.startswith('#')]
+cloud = np.asarray(o3d.io.read_point_cloud(sys.argv[2]).points)
+truth_file = sys.argv[3].replace('object.ply', 'ground_truth.txt')
+gt = [l.split() for l in open(truth_file) if l.strip() and not l.startswith('#')]
+A = np.array([[float(v) for v in p[1:4]] for p in est]); B = np.array([[float(v) for v in p[1:4]] for p in gt])
+ca, cb = A.mean(0), B.mean(0)
+U, S, Vt = np.linalg.svd((B - cb).T @ (A - ca))
+D = np.diag([1, 1, np.sign(np.linalg.det(U @ Vt))])
+R = U @ D @ Vt
+aligned = (R @ (cloud - ca).T).T + cb
+mesh = o3d.t.geometry.TriangleMesh.from_legacy(o3d.io.read_triangle_mesh(sys.argv[3]))
+scene = o3d.t.geometry.RaycastingScene(); scene.add_triangles(mesh)
+dist = scene.compute_distance(o3d.core.Tensor(aligned.astype(np.float32))).numpy()
+pairs = d['registration']
+print(f"| {sys.argv[4]} | {d['scans']} | {rep['median_sensor_translation_mm']:.2f} / {rep['median_rotation_deg']:.3f} | "
+      f"{reg['median_sensor_translation_mm']:.2f} / {reg['median_rotation_deg']:.3f} | "
+      f"{reg['max_sensor_translation_mm']:.2f} / {reg['max_rotation_deg']:.3f} | {pairs['pairs_accepted']}/{pairs['pairs']} | "
+      f"{d['cloud_points']} | {dist.mean() * 1e3:.2f} | {d['time_ms']['registration'] / 1e3:.1f} | {d['time_ms']['total'] / 1e3:.1f} |")
+PY
+done
