@@ -54,6 +54,12 @@ assert len(raw_faces) == d['raw_mesh']['triangles'] > 0 and len(filtered_faces) 
 assert 'excluded' in filtered and sum(filtered['excluded'][1]) == d['smoothing']['excluded'], 'excluded flags'
 " || fail "reconstruct outputs or summary wrong"
 
+# The same result on one thread (pairs, NDT, fusion and normals are parallel)
+"$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/one_thread" --threads 1 --no-meshes -q --json \
+  >/dev/null 2>"$work/err" || fail "reconstruct --threads 1 failed: $(cat "$work/err")"
+cmp -s "$work/rec/poses.txt" "$work/one_thread/poses.txt" || fail "poses differ between 1 and 2 threads"
+cmp -s "$work/rec/cloud.ply" "$work/one_thread/cloud.ply" || fail "fused cloud differs between 1 and 2 threads"
+
 # --no-registration keeps the reported poses exactly
 "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/plain" --no-registration --no-meshes --json -q \
   >"$work/plain.json" 2>"$work/err" || fail "reconstruct --no-registration failed: $(cat "$work/err")"

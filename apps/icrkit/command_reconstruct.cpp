@@ -193,6 +193,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
           {"converged", result.registration.graph.converged}}},
         {"model_points", result.registration.model_points},
         {"ndt_resolutions_m", result.registration.resolutions},
+        {"pair_variance_factor", result.registration.pair_variance_factor},
         {"first_scan_spacing_m", result.registration.first_scan_spacing_m}}},
       {"fusion",
        {{"points_in", result.fusion.points_in},

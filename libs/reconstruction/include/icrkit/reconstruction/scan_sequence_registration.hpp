@@ -49,8 +49,9 @@ struct SequenceRegistrationParameters {
   /// scan's correction (arm drift and hand-eye errors change slowly).
   bool propagate_correction = true;
   /// A registration is rejected (the scan keeps its starting pose, stays out
-  /// of the model and gets a weak edge) when it moves the scan further than
-  /// these from its reported pose (metres, radians) ...
+  /// of the model and gets a weak edge) when it moves the scan's points (at
+  /// their centroid) or turns them further than these from the reported
+  /// pose (metres, radians) ...
   double max_correction_translation = 0.03;
   double max_correction_rotation = 0.25;
   /// ... or ends with a normalised NDT score below this (0: no point near a
@@ -61,7 +62,7 @@ struct SequenceRegistrationParameters {
   /// fraction of the largest, rotations scaled by the points' radius); the
   /// rest comes from the reported pose. A cup or a bottle on a turntable
   /// does not show its rotation about its own axis. 0: keep everything.
-  double degeneracy_ratio = 0.01;
+  double degeneracy_ratio = 0.05;
   /// Pose graph edges of pair-wise registrations carry the NDT Hessian as
   /// their information (scaled so that the best-constrained translation has
   /// `registration_sigma_translation`): unobserved directions are then left
@@ -95,6 +96,10 @@ struct SequenceRegistrationParameters {
   /// none.
   double odometry_sigma_translation = 0.0005;
   double odometry_sigma_rotation = 0.001;
+  /// Rounds of re-estimating the pairs' precision from their residuals
+  /// (variance component estimation against the odometry and priors); 0:
+  /// trust `registration_sigma_*` as given.
+  int variance_rounds = 10;
   /// Robust kernel etc. of the final optimisation; registration and loop
   /// closure edges are robust, priors and odometry are not.
   PoseGraphParameters graph = [] {
@@ -159,6 +164,9 @@ struct SequenceRegistrationResult {
   PoseGraphReport graph;
   std::size_t model_points = 0;  ///< final model size (voxel centroids)
   std::vector<double> resolutions;  ///< the NDT cell sizes used (metres)
+  /// The pairs' variance as estimated from their residuals, relative to
+  /// `registration_sigma_*` (> 1: less precise than stated).
+  double pair_variance_factor = 1.0;
   double first_scan_spacing_m = 0.0;  ///< median nearest-neighbour spacing of the first scan
   double time_ms = 0.0;          ///< registrations, loop closure and graph
 };
