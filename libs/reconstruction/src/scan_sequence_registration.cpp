@@ -495,11 +495,11 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     PoseGraphResult solved = optimisePoseGraph(graph, params.graph);
     // How precise the pairs really were on this data: the stated sigma is a
     // guess (a Kinect pair is better than a SR4000 pair). Their normalised
-    // residuals at the solution rescale their information until the median
-    // matches a chi-square with 6 degrees of freedom (median 5.35), then the
-    // graph is solved again: variance component estimation, so that the
-    // pairs and the robot's odometry share the work by their actual
-    // precision.
+    // residuals at the solution scale their information down until the
+    // median matches a chi-square with 6 degrees of freedom (median 5.35),
+    // and the graph is solved again (variance component estimation). Only
+    // down: the pairs largely make the solution they are measured against,
+    // so small residuals do not prove they are better than stated.
     double factor = 1.0;
     for (int round = 0; round < params.variance_rounds && pair_edges.size() >= 3; ++round) {
       std::vector<double> chi2;
@@ -509,7 +509,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
         chi2.push_back(error.dot(edge.information * error));
       }
       std::nth_element(chi2.begin(), chi2.begin() + static_cast<std::ptrdiff_t>(chi2.size() / 2), chi2.end());
-      const double step = std::clamp(chi2[chi2.size() / 2] / 5.35, 0.1 / factor, 100.0 / factor);
+      const double step = std::clamp(chi2[chi2.size() / 2] / 5.35, 1.0 / factor, 100.0 / factor);
       if (!(step > 0) || std::abs(std::log(step)) < std::log(1.2)) break;
       factor *= step;
       for (std::size_t e : pair_edges) graph.edges[e].information /= step;

@@ -97,8 +97,8 @@ struct SequenceRegistrationParameters {
   double odometry_sigma_translation = 0.0005;
   double odometry_sigma_rotation = 0.001;
   /// Rounds of re-estimating the pairs' precision from their residuals
-  /// (variance component estimation against the odometry and priors); 0:
-  /// trust `registration_sigma_*` as given.
+  /// (variance component estimation against the odometry and priors; the
+  /// pairs are only ever weakened); 0: trust `registration_sigma_*`.
   int variance_rounds = 10;
   /// Robust kernel etc. of the final optimisation; registration and loop
   /// closure edges are robust, priors and odometry are not.
@@ -165,7 +165,7 @@ struct SequenceRegistrationResult {
   std::size_t model_points = 0;  ///< final model size (voxel centroids)
   std::vector<double> resolutions;  ///< the NDT cell sizes used (metres)
   /// The pairs' variance as estimated from their residuals, relative to
-  /// `registration_sigma_*` (> 1: less precise than stated).
+  /// `registration_sigma_*` (>= 1: less precise than stated).
   double pair_variance_factor = 1.0;
   double first_scan_spacing_m = 0.0;  ///< median nearest-neighbour spacing of the first scan
   double time_ms = 0.0;          ///< registrations, loop closure and graph
