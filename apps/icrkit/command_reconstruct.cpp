@@ -30,6 +30,7 @@ struct ReconstructOptions {
   std::string poses;
   std::string gt_poses;
   std::string images;
+  std::string range_correction;
   std::string crop;
   double crop_size = 0.15;
   bool no_plane = false;
@@ -78,6 +79,8 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   reconstruction::ReconstructionParameters params;
   params.pose_file = options.poses;
   params.images_folder = options.images;
+  if (!options.range_correction.empty())
+    params.range_correction = reconstruction::readRangeErrorModel(options.range_correction);
   if (!options.crop.empty()) params.crop_box = parseBox("--crop", options.crop);
   if (!(options.crop_size > 0) || !std::isfinite(options.crop_size))
     throw InputError("--crop-size", "", "expected a positive half-size in metres");
@@ -171,6 +174,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
       {"crop_box_m", {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()}},
       {"crop_box_automatic", result.crop_box_automatic},
       {"scan_spacing_m", result.scan_spacing_m},
+      {"range_correction", options.range_correction.empty() ? nlohmann::json(nullptr) : nlohmann::json(options.range_correction)},
       {"registration",
        {{"enabled", params.register_scans},
         {"registered_scans", [&] {
@@ -269,6 +273,8 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--gt-poses", options->gt_poses,
                       "TUM file of true sensor poses: the summary then reports the registration error");
   command->add_option("--images", options->images, "Folder of externally stored images (default: <rawlog>_Images)");
+  command->add_option("--range-correction", options->range_correction,
+                      "ToF range error model (JSON from `icrkit calibrate-range`) removed from every scan first");
   command->add_option("--crop", options->crop,
                       "Object region xmin,ymin,zmin,xmax,ymax,zmax (metres, object frame). Default: a cube of "
                       "--crop-size around the point the views' optical axes converge on");

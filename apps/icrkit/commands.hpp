@@ -22,5 +22,6 @@ void addSimulateCommand(CLI::App& app, CommandRunner& runner);
 void addDatasetsCommand(CLI::App& app, CommandRunner& runner);
 void addCalibrateCommand(CLI::App& app, CommandRunner& runner);
 void addReconstructCommand(CLI::App& app, CommandRunner& runner);
+void addCalibrateRangeCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

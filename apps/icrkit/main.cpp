@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   addDatasetsCommand(app, runner);
   addCalibrateCommand(app, runner);
   addReconstructCommand(app, runner);
+  addCalibrateRangeCommand(app, runner);
 
   try {
     app.parse(argc, argv);

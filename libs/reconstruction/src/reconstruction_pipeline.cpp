@@ -38,6 +38,7 @@ ScanFilterRecord filterScan(RangeScan& scan, const ReconstructionParameters& par
   ScanFilterRecord record;
   record.index = scan.index;
   record.timestamp = scan.timestamp;
+  correctRange(scan, params.range_correction);
   record.valid_pixels = scan.validPixels();
   record.removed_confidence = filterConfidence(scan, params.confidence).removed;
   if (params.jump_edge_filter) record.removed_jump_edges = filterJumpEdges(scan, params.jump_edges).removed;

@@ -14,25 +14,27 @@
 
 namespace icrkit::reconstruction::testing_support {
 
-/// A recording of the cup, by default with the Kinect in setup B (the
-/// SR4000 uses setup A); `perfect`: reported poses are the true ones.
-inline std::string simulatedRecording(int views, bool perfect, sim::SensorType sensor = sim::SensorType::Kinect) {
+/// A recording of a CAD object (the cup by default) with the Kinect in
+/// setup B or the SR4000 in setup A; `perfect`: reported poses are the
+/// true ones.
+inline std::string simulatedRecording(int views, bool perfect, sim::SensorType sensor = sim::SensorType::Kinect,
+                                      const std::string& object = "cup") {
   // Removed when the test process ends.
-  struct Made : std::map<std::tuple<int, bool, int>, std::string> {
+  struct Made : std::map<std::tuple<int, bool, int, std::string>, std::string> {
     ~Made() {
       std::error_code error;
       for (const auto& entry : *this) std::filesystem::remove_all(entry.second, error);
     }
   };
   static Made made;
-  const auto key = std::make_tuple(views, perfect, static_cast<int>(sensor));
+  const auto key = std::make_tuple(views, perfect, static_cast<int>(sensor), object);
   auto it = made.find(key);
   if (it != made.end()) return it->second;
   const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                     ("icrkit_scanio_" + std::to_string(::getpid()) + "_" + std::to_string(views) +
-                                     (perfect ? "_perfect" : "_noisy") + "_" + sim::sensorTypeName(sensor));
+                                     (perfect ? "_perfect" : "_noisy") + "_" + sim::sensorTypeName(sensor) + "_" + object);
   sim::DatasetSpec spec;
-  spec.object = "cup";
+  spec.object = object;
   spec.sensor = sensor;
   spec.acquisition.setup = sensor == sim::SensorType::Kinect ? sim::Setup::B : sim::Setup::A;
   spec.acquisition.views = views;

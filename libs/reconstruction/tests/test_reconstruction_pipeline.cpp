@@ -11,6 +11,7 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_distance.hpp>
 #include <icrkit/core/pose.hpp>
+#include <icrkit/reconstruction/range_calibration.hpp>
 #include <icrkit/reconstruction/trajectory_error.hpp>
 #include <icrkit/sim/range_sensor.hpp>
 
@@ -84,6 +85,32 @@ void reconstructSimulatedCup(sim::SensorType sensor, double range) {
   EXPECT_LE(d.mean, 1.5 * floor.mean);
   if (sensor == sim::SensorType::Kinect) {
     EXPECT_LE(d.mean, 1.5 * sigma);
+  } else {
+    // The SR4000's systematic range error, calibrated on another recording
+    // (another object, exact poses) and removed: the fused cloud comes
+    // closer to the CAD mesh, at the true poses and registered.
+    const std::string reference = simulatedRecording(8, true, sensor, "paper_cup");
+    const RangeErrorModel correction =
+        calibrateRangeError(reference + "/scans.rawlog", {}, io::readTriangleMesh(reference + "/scene.ply")).model;
+    ReconstructionParameters corrected = params;
+    corrected.range_correction = correction;
+    const ReconstructionResult rc = reconstructRawlog(dir + "/scans.rawlog", corrected);
+    const TrajectoryError rc_error = trajectoryError(rc.poses, truth, rc.crop_box.center());
+    const MeshDistanceStatistics dc = meanDistanceToCad(rc.cloud, rc_error.alignment);
+    true_poses.range_correction = correction;
+    const MeshDistanceStatistics floor_corrected =
+        meanDistanceToCad(reconstructRawlog(dir + "/scans.rawlog", true_poses).cloud, Eigen::Isometry3d::Identity());
+    std::printf("with the range correction: registration sensor median %.3f mm, rotation median %.3f deg; mean "
+                "distance to the CAD mesh %.3f mm (at the true poses %.3f mm)\n",
+                rc_error.aligned.median_sensor_translation_m * 1e3, rc_error.aligned.median_rotation_rad / kDeg,
+                dc.mean * 1e3, floor_corrected.mean * 1e3);
+    EXPECT_LE(rc_error.aligned.median_sensor_translation_m, 1e-3);
+    EXPECT_LE(rc_error.aligned.median_rotation_rad, 0.3 * kDeg);
+    EXPECT_LT(floor_corrected.mean, 0.75 * floor.mean);
+    EXPECT_LT(dc.mean, d.mean);
+    // Not yet within 1.5x of that floor (0.94 against 0.51 mm here): what
+    // remains is the pose error, the robot's hand-eye rotation carried
+    // through its odometry (docs/reconstruction.md).
   }
 
   // Attributes: the fusion's on the cloud and both meshes; preselection's on the filtered mesh.

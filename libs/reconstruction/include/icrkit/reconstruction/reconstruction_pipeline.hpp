@@ -17,6 +17,7 @@
 #include <icrkit/ndt/smoothing.hpp>
 #include <icrkit/reconstruction/ball_pivoting.hpp>
 #include <icrkit/reconstruction/octree_fusion.hpp>
+#include <icrkit/reconstruction/range_calibration.hpp>
 #include <icrkit/reconstruction/scan_filters.hpp>
 #include <icrkit/reconstruction/scan_sequence_registration.hpp>
 
@@ -35,6 +36,9 @@ struct ReconstructionParameters {
   std::string pose_file;
   std::string images_folder;
 
+  /// A ToF camera's systematic range error (range_calibration.hpp), removed
+  /// from every scan before anything else; zero: none.
+  RangeErrorModel range_correction;
   /// Per-scan filters, in this order.
   ConfidenceFilterParameters confidence;
   bool jump_edge_filter = true;
