@@ -90,5 +90,36 @@ expect_input_error "not a directory" "$ICRKIT" reconstruct "$work/cup/scans.rawl
 printf 'not a rawlog\n' >"$work/text.rawlog"
 expect_input_error "text.rawlog" "$ICRKIT" reconstruct "$work/text.rawlog" -o "$work/bad7"
 
+# ToF range calibration: a reference recording at exact poses, the model,
+# and its use by reconstruct.
+"$ICRKIT" simulate --object paper_cup --sensor sr4000 --views 4 --perfect-poses -o "$work/tof" -q >/dev/null 2>&1 ||
+  fail "simulate sr4000 failed"
+expect_exit 0 "$ICRKIT" calibrate-range --help
+"$ICRKIT" calibrate-range "$work/tof/scans.rawlog" --scene "$work/tof/scene.ply" -o "$work/range.json" --json \
+  >"$work/range_summary.json" 2>"$work/err" || fail "calibrate-range failed: $(cat "$work/err")"
+py "
+import json
+s = json.load(open('$work/range_summary.json'))
+m = json.load(open('$work/range.json'))
+assert m['format'] == 'icrkit range error model 1' and m['wavelength_m'] == 1.249, m
+assert s['samples'] > 1000 and s['rms_after_mm'] < s['rms_before_mm'], s
+assert 3 < s['periodic_amplitude_mm'] < 10, s  # the simulated SR4000 wiggles by 5 mm
+" || fail "calibrate-range outputs wrong"
+"$ICRKIT" reconstruct "$work/tof/scans.rawlog" -o "$work/tof_rec" --range-correction "$work/range.json" --no-meshes \
+  --json -q >"$work/tof_rec.json" 2>"$work/err" || fail "reconstruct --range-correction failed: $(cat "$work/err")"
+py "
+import json
+d = json.load(open('$work/tof_rec.json'))
+assert d['range_correction'] == '$work/range.json' and d['scans'] == 4, d['range_correction']
+" || fail "reconstruct --range-correction summary wrong"
+expect_input_error "missing.ply" "$ICRKIT" calibrate-range "$work/tof/scans.rawlog" --scene "$work/missing.ply" \
+  -o "$work/r2.json"
+expect_input_error "r2.txt" "$ICRKIT" calibrate-range "$work/tof/scans.rawlog" --scene "$work/tof/scene.ply" \
+  -o "$work/r2.txt"
+printf '{"format": "something else"}\n' >"$work/bad_model.json"
+expect_input_error "bad_model.json" "$ICRKIT" reconstruct "$work/tof/scans.rawlog" -o "$work/bad8" \
+  --range-correction "$work/bad_model.json"
+[ ! -e "$work/bad8" ] || fail "a run with a bad range model created its output directory"
+
 [ "$failures" -eq 0 ] || { echo "$failures check(s) failed" >&2; exit 1; }
 echo "cli_reconstruct: all checks passed"
