@@ -46,5 +46,5 @@ function(icrkit_add_test name)
     ICRKIT_SHARED_DATA_DIR="${ICRKIT_SHARED_DATA_DIR}"
     ICRKIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   # A hang (e.g. a reader looping on corrupted input) fails instead of stalling CI.
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 300)
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT ${ICRKIT_TEST_TIMEOUT})
 endfunction()
