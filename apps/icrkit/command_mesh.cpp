@@ -11,6 +11,7 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 #include <icrkit/reconstruction/ball_pivoting.hpp>
+#include <icrkit/reconstruction/octree_fusion.hpp>
 
 #include <memory>
 #include <string>
@@ -61,13 +62,8 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
     const double start = context.elapsedMs();
     // A fused cloud carries each point's sensor position (viewpoint_x/y/z,
     // from the reconstruction's fusion): each normal then faces its own.
-    const AttributeSet& a = cloud.attributes;
-    if (options.viewpoint.empty() && a.has("viewpoint_x") && a.has("viewpoint_y") && a.has("viewpoint_z")) {
-      for (std::size_t i = 0; i < cloud.size(); ++i)
-        normal_params.viewpoints.emplace_back(a.get("viewpoint_x").values[i], a.get("viewpoint_y").values[i],
-                                              a.get("viewpoint_z").values[i]);
-      normals_source = "estimated, facing each point's viewpoint attribute";
-    }
+    if (options.viewpoint.empty()) normal_params.viewpoints = reconstruction::fusionViewpoints(cloud);
+    if (!normal_params.viewpoints.empty()) normals_source = "estimated, facing each point's viewpoint attribute";
     renamingInputErrors("point cloud", options.input, [&] { return ndt::estimateNormals(cloud, normal_params); });
     normals_ms = context.elapsedMs() - start;
     if (normals_source == "input") normals_source = "estimated";

@@ -204,4 +204,16 @@ OctreeFusionResult fuseScans(const std::vector<RangeScan>& scans, const OctreeFu
   return fusion.finish();
 }
 
+std::vector<Eigen::Vector3d> fusionViewpoints(const PointCloud& cloud) {
+  const AttributeSet& a = cloud.attributes;
+  if (!a.has("viewpoint_x") || !a.has("viewpoint_y") || !a.has("viewpoint_z")) return {};
+  const auto& vx = a.get("viewpoint_x").values;
+  const auto& vy = a.get("viewpoint_y").values;
+  const auto& vz = a.get("viewpoint_z").values;
+  std::vector<Eigen::Vector3d> viewpoints;
+  viewpoints.reserve(cloud.positions.size());
+  for (std::size_t i = 0; i < cloud.positions.size(); ++i) viewpoints.emplace_back(vx[i], vy[i], vz[i]);
+  return viewpoints;
+}
+
 }  // namespace icrkit::reconstruction

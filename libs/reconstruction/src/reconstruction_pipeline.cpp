@@ -72,26 +72,26 @@ PointCloud objectPointsInSensorFrame(const RangeScan& scan, const std::vector<st
   return cloud;
 }
 
-void orientTowardsViewpoints(PointCloud& cloud) {
-  const AttributeSet& a = cloud.attributes;
-  if (!a.has("viewpoint_x") || !a.has("viewpoint_y") || !a.has("viewpoint_z") || cloud.normals.empty()) return;
-  const auto& vx = a.get("viewpoint_x").values;
-  const auto& vy = a.get("viewpoint_y").values;
-  const auto& vz = a.get("viewpoint_z").values;
+// Turns each normal towards its own sensor.
+void orientTowardsViewpoints(PointCloud& cloud, const std::vector<Eigen::Vector3d>& viewpoints) {
+  if (viewpoints.size() != cloud.positions.size() || cloud.normals.size() != cloud.positions.size()) return;
   for (std::size_t i = 0; i < cloud.positions.size(); ++i)
-    if (cloud.normals[i].dot(Eigen::Vector3d(vx[i], vy[i], vz[i]) - cloud.positions[i]) < 0)
-      cloud.normals[i] = -cloud.normals[i];
+    if (cloud.normals[i].dot(viewpoints[i] - cloud.positions[i]) < 0) cloud.normals[i] = -cloud.normals[i];
 }
 
-std::vector<Eigen::Vector3d> viewpointsOf(const PointCloud& cloud) {
-  std::vector<Eigen::Vector3d> viewpoints;
-  const AttributeSet& a = cloud.attributes;
-  const auto& vx = a.get("viewpoint_x").values;
-  const auto& vy = a.get("viewpoint_y").values;
-  const auto& vz = a.get("viewpoint_z").values;
-  viewpoints.reserve(cloud.positions.size());
-  for (std::size_t i = 0; i < cloud.positions.size(); ++i) viewpoints.emplace_back(vx[i], vy[i], vz[i]);
-  return viewpoints;
+// Scan i of a pass over the rawlog, filtered (see filterScan), with the
+// reading and filtering times added to `times`.
+RangeScan nextFilteredScan(RawlogReader& reader, const std::string& rawlog, std::size_t i,
+                           const ReconstructionParameters& params, const Eigen::AlignedBox3d& box,
+                           std::vector<std::uint8_t>& object, ScanFilterRecord& record, ReconstructionTimes& times) {
+  auto start = Clock::now();
+  std::optional<RangeScan> scan = reader.next();
+  if (!scan) throw InputError(rawlog, "scan " + std::to_string(i), "the file changed while it was being read");
+  times.read_ms += msSince(start);
+  start = Clock::now();
+  record = filterScan(*scan, params, box, object);
+  times.filter_ms += msSince(start);
+  return std::move(*scan);
 }
 
 void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
@@ -161,26 +161,21 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
   {
     RawlogReader reader(rawlog, readerOptions(params, true));
     for (std::size_t i = 0; i < n; ++i) {
-      auto start = Clock::now();
-      std::optional<RangeScan> scan = reader.next();
-      if (!scan) throw InputError(rawlog, "scan " + std::to_string(i), "the file changed while it was being read");
-      times.read_ms += msSince(start);
-      start = Clock::now();
       std::vector<std::uint8_t> object;
-      result.filters.push_back(filterScan(*scan, params, result.crop_box, object));
-      times.filter_ms += msSince(start);
-      if (result.filters.back().object_points == 0)
+      ScanFilterRecord& record = result.filters.emplace_back();
+      const RangeScan scan = nextFilteredScan(reader, rawlog, i, params, result.crop_box, object, record, times);
+      if (record.object_points == 0)
         throw InputError(rawlog, "scan " + std::to_string(i),
                          "no points left inside the crop box after filtering (check the crop box and the poses)");
       if (i == 0) {
         std::vector<Eigen::Vector3d> object_points;
-        for (std::size_t k = 0; k < scan->points.size(); ++k)
-          if (object[k]) object_points.push_back(scan->points[k]);
+        for (std::size_t k = 0; k < scan.points.size(); ++k)
+          if (object[k]) object_points.push_back(scan.points[k]);
         result.scan_spacing_m = nearestNeighbourSpacing(object_points).median;
       }
       if (registration) {
-        start = Clock::now();
-        registration->add(objectPointsInSensorFrame(*scan, object), scan->sensor_pose);
+        const auto start = Clock::now();
+        registration->add(objectPointsInSensorFrame(scan, object), scan.sensor_pose);
         times.registration_ms += msSince(start);
       }
       report(progress, "registration", i + 1, n);
@@ -203,19 +198,14 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     OctreeFusion fusion(fusion_params);
     RawlogReader reader(rawlog, readerOptions(params, true));
     for (std::size_t i = 0; i < n; ++i) {
-      auto start = Clock::now();
-      std::optional<RangeScan> scan = reader.next();
-      if (!scan) throw InputError(rawlog, "scan " + std::to_string(i), "the file changed while it was being read");
-      times.read_ms += msSince(start);
-      start = Clock::now();
       std::vector<std::uint8_t> object;
-      filterScan(*scan, params, result.crop_box, object);
-      times.filter_ms += msSince(start);
-      start = Clock::now();
-      const Eigen::Isometry3d correction = result.poses[i] * scan->sensor_pose.inverse();
-      for (Eigen::Vector3d& p : scan->points) p = correction * p;
-      scan->sensor_pose = result.poses[i];
-      fusion.insert(*scan, object);
+      ScanFilterRecord record;
+      RangeScan scan = nextFilteredScan(reader, rawlog, i, params, result.crop_box, object, record, times);
+      const auto start = Clock::now();
+      const Eigen::Isometry3d correction = result.poses[i] * scan.sensor_pose.inverse();
+      for (Eigen::Vector3d& p : scan.points) p = correction * p;
+      scan.sensor_pose = result.poses[i];
+      fusion.insert(scan, object);
       times.fusion_ms += msSince(start);
       report(progress, "fusion", i + 1, n);
     }
@@ -229,11 +219,14 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     throw InputError(rawlog, "", "only " + std::to_string(result.cloud.positions.size()) +
                                      " points survived the fusion: nothing to reconstruct");
 
+  // Each point's sensor, for the raw normals and the smoothed ones (the
+  // smoothing keeps the point order).
+  const std::vector<Eigen::Vector3d> viewpoints = fusionViewpoints(result.cloud);
   {
     const auto start = Clock::now();
     report(progress, "normals", 0, 1);
     ndt::NormalEstimationParameters normals = params.normals;
-    normals.viewpoints = viewpointsOf(result.cloud);
+    normals.viewpoints = viewpoints;
     result.normals = ndt::estimateNormals(result.cloud, normals);
     times.normals_ms = msSince(start);
   }
@@ -254,7 +247,7 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
       report(progress, "smoothing", d, t);
     });
     // v3 normals face each point's own sensor, like the raw cloud's.
-    orientTowardsViewpoints(smoothed);
+    orientTowardsViewpoints(smoothed, viewpoints);
     times.smoothing_ms = msSince(start);
 
     start = Clock::now();

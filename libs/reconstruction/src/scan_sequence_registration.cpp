@@ -38,6 +38,17 @@ PointCloud positionsOnly(const std::vector<Eigen::Vector3d>& points) {
   return cloud;
 }
 
+// The cube of edge `size` holding p, as one integer (21 bits per axis).
+std::int64_t cubeKey(const Eigen::Vector3d& p, double size) {
+  constexpr std::int64_t kHalf = 1 << 20;
+  std::int64_t key = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double c = std::clamp(std::floor(p(k) / size), -double(kHalf), double(kHalf - 1));
+    key = (key << 21) | (static_cast<std::int64_t>(c) + kHalf);
+  }
+  return key;
+}
+
 // Centroids of the model's points per cube. An ordered map: the target is
 // built from the centroids in key order, so the model does not depend on
 // hash-table layout.
@@ -46,15 +57,9 @@ public:
   explicit VoxelModel(double size) : size_(size) {}
 
   void add(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose) {
-    constexpr std::int64_t kHalf = 1 << 20;
     for (const Eigen::Vector3d& local : points) {
       const Eigen::Vector3d p = pose * local;
-      std::int64_t key = 0;
-      for (int k = 0; k < 3; ++k) {
-        const double c = std::clamp(std::floor(p(k) / size_), -double(kHalf), double(kHalf - 1));
-        key = (key << 21) | (static_cast<std::int64_t>(c) + kHalf);
-      }
-      Cell& cell = cells_[key];
+      Cell& cell = cells_[cubeKey(p, size_)];
       cell.sum += p;
       ++cell.count;
     }
@@ -292,19 +297,9 @@ namespace {
 
 // The 1 cm cubes a scan's points occupy at a pose, sorted (for overlaps).
 std::vector<std::int64_t> occupiedCubes(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose) {
-  constexpr double kCube = 0.01;
-  constexpr std::int64_t kHalf = 1 << 20;
   std::vector<std::int64_t> keys;
   keys.reserve(points.size());
-  for (const Eigen::Vector3d& local : points) {
-    const Eigen::Vector3d p = pose * local;
-    std::int64_t key = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double c = std::clamp(std::floor(p(k) / kCube), -double(kHalf), double(kHalf - 1));
-      key = (key << 21) | (static_cast<std::int64_t>(c) + kHalf);
-    }
-    keys.push_back(key);
-  }
+  for (const Eigen::Vector3d& local : points) keys.push_back(cubeKey(pose * local, 0.01));
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   return keys;

@@ -103,4 +103,8 @@ private:
 /// (0, 1).
 OctreeFusionResult fuseScans(const std::vector<RangeScan>& scans, const OctreeFusionParameters& params = {});
 
+/// Each point's sensor position from the fusion's `viewpoint_x/y/z`
+/// attributes (for orienting normals); empty when the cloud lacks them.
+std::vector<Eigen::Vector3d> fusionViewpoints(const PointCloud& cloud);
+
 }  // namespace icrkit::reconstruction
