@@ -1,0 +1,96 @@
+#pragma once
+/// \file
+/// The paper's experiment (Section IV) on one object: a CAD mesh and the raw
+/// and filtered meshes reconstructed from sensor data, all in one frame.
+///
+/// For each finger count: `grasps_per_set` random force-closure grasps G^C on
+/// the CAD mesh (frictional point contacts, mu = 0.8, octagonal pyramids);
+/// G^R and G^F by eq. (2); G^F checked against the preselection (no contact
+/// on an excluded vertex); a mapped grasp is eligible when it also meets the
+/// task: its GWS holds the TWS = alpha x the epsilon-ball of G^C. When both
+/// are eligible, C^C, C^R and C^F are grown with that TWS and each
+/// reconstructed region is compared with the CAD region (Algorithm 2, FP
+/// area, Q_n). All three meshes share the CAD mesh's wrench frame (centroid,
+/// lambda), so wrenches and the TWS mean the same on each.
+
+#include <icrkit/core/progress.hpp>
+#include <icrkit/core/triangle_mesh.hpp>
+#include <icrkit/eval/experiment_records.hpp>
+#include <icrkit/eval/mesh_distances.hpp>
+#include <icrkit/eval/normal_line_mappings.hpp>
+#include <icrkit/icr/independent_contact_regions.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace icrkit::eval {
+
+/// Shard i of n: a contiguous block of the work items (so that each shard
+/// touches few datasets); shards 0..n-1 together cover every item once.
+struct Shard {
+  std::size_t index = 0;
+  std::size_t count = 1;
+  /// [begin, end) of `total` items for this shard.
+  std::pair<std::size_t, std::size_t> range(std::size_t total) const;
+  /// Throws InputError unless count >= 1 and index < count.
+  void validate() const;
+};
+
+struct ExperimentConfig {
+  std::vector<std::size_t> finger_counts{4, 5};
+  std::size_t grasps_per_set = 200;  ///< per finger count and dataset
+  std::uint64_t seed = 1;            ///< grasp sampling; the set for f fingers uses seed * 1000 + f
+  double friction = 0.8;             ///< mu of the frictional point contacts
+  int cone_edges = 8;                ///< octagonal pyramids
+  double alpha = 0.8;                ///< TWS radius = alpha * epsilon(G^C)
+  icr::GrowthMode growth = icr::GrowthMode::BreadthFirst;
+  MappingParameters mapping;         ///< eqs. (2), (3) and Algorithm 2
+  DistanceMetric metric = DistanceMetric::Geodesic;  ///< for Q_n
+  std::size_t max_sampling_attempts = 1000000;
+
+  /// Throws InputError naming the first parameter out of range.
+  void validate() const;
+  icr::ContactModel contactModel() const;
+};
+
+/// The three meshes of one object. CAD and reconstructed meshes need one unit
+/// normal per vertex; the filtered mesh's `excluded` attribute (when present)
+/// is the preselection.
+struct DatasetMeshes {
+  std::string name;
+  const TriangleMesh* cad = nullptr;
+  const TriangleMesh* raw = nullptr;
+  const TriangleMesh* filtered = nullptr;
+};
+
+class DatasetExperiment {
+public:
+  /// Prepares the meshes once (adjacency, Embree scenes, kd-trees). Throws
+  /// InputError for a mesh without faces or normals, or a bad config.
+  DatasetExperiment(const DatasetMeshes& meshes, const ExperimentConfig& config);
+  ~DatasetExperiment();
+  DatasetExperiment(const DatasetExperiment&) = delete;
+  DatasetExperiment& operator=(const DatasetExperiment&) = delete;
+
+  /// Work items of this dataset: one per grasp of every test set.
+  std::size_t itemCount() const;
+
+  /// Evaluates items [begin, end) (in the order finger count, grasp index),
+  /// in parallel; records come back sorted. Progress: "grasps", done, total.
+  std::vector<GraspRecord> run(std::size_t begin, std::size_t end, const ProgressCallback& progress = {}) const;
+
+  /// The common wrench frame's lambda (from the CAD mesh), metres.
+  double cadLambda() const;
+  /// Grasps in the CAD test set of a finger count (sampled in the
+  /// constructor; fewer than asked only when sampling ran out of attempts).
+  std::size_t sampledGrasps(std::size_t fingers) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace icrkit::eval

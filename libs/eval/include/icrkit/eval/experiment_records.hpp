@@ -1,0 +1,66 @@
+#pragma once
+/// \file
+/// What the experiment runner measures for one grasp, and the JSON-lines
+/// form of it (`grasps.jsonl`) from which every table and figure is computed,
+/// so that shards of a study merge by concatenating their records.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace icrkit::eval {
+
+/// One finger's region on a reconstructed mesh compared with the CAD region.
+struct RegionComparison {
+  std::size_t vertices = 0;               ///< |C_n^S|
+  double area_m2 = 0.0;                   ///< A(C_n^S), on the reconstructed mesh
+  double intersection_area_m2 = 0.0;      ///< A(I_n), on the CAD mesh (Algorithm 2)
+  double false_positive_area_m2 = 0.0;    ///< see docs/evaluation.md
+  /// 100 A(I_n) / A(C_n^C) and 100 FP / A(C_n^C); unset when A(C_n^C) = 0.
+  std::optional<double> intersection_percent;
+  std::optional<double> false_positive_percent;
+  double d1_m = 0.0;                      ///< CAD central point to the CAD region's border
+  double d2_m = 0.0;                      ///< mapped central point to that border, negative outside
+  std::optional<double> quality;          ///< Q_n = d2 / d1; unset when d1 = 0 (degenerate)
+};
+
+/// A grasp moved onto one reconstructed mesh (raw or filtered).
+struct MeshOutcome {
+  std::vector<int> contacts;               ///< by eq. (2); empty when a contact could not be mapped
+  bool preselection_passed = true;         ///< no contact on an excluded vertex (filtered mesh only)
+  bool task_fulfilled = false;             ///< force closure and the TWS inside its GWS
+  double epsilon = 0.0;                    ///< of the mapped grasp, 0 when not force closure
+  std::string reason;                      ///< why it is not eligible; empty when it is
+  std::vector<RegionComparison> regions;   ///< one per finger, when the grasp was evaluated
+
+  bool eligible() const { return preselection_passed && task_fulfilled; }
+};
+
+struct GraspRecord {
+  std::string dataset;
+  std::size_t fingers = 0;
+  std::size_t index = 0;                   ///< in the dataset's test set of this finger count
+  std::vector<int> cad_contacts;
+  double cad_epsilon = 0.0;
+  double tws_radius = 0.0;                 ///< alpha * cad_epsilon
+  std::vector<double> cad_region_areas_m2; ///< A(C_n^C) per finger, when evaluated
+  MeshOutcome raw;
+  MeshOutcome filtered;
+  bool evaluated = false;                  ///< both mapped grasps eligible: regions were computed
+
+  /// Records sort by (dataset, fingers, index): the order of every output.
+  bool operator<(const GraspRecord& other) const;
+};
+
+/// One JSON object on one line (no trailing newline); exact round trip of
+/// every field (doubles written with 17 significant digits).
+std::string toJsonLine(const GraspRecord& record);
+/// Throws InputError naming `source` and `line` (1-based) for malformed input.
+GraspRecord fromJsonLine(const std::string& text, const std::string& source = "grasps.jsonl", std::size_t line = 0);
+
+/// Reads a whole grasps.jsonl (blank lines allowed) / writes one atomically.
+std::vector<GraspRecord> readGraspRecords(const std::string& path);
+void writeGraspRecords(const std::string& path, const std::vector<GraspRecord>& records);
+
+}  // namespace icrkit::eval

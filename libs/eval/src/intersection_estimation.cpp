@@ -1,0 +1,145 @@
+#include <icrkit/eval/intersection_estimation.hpp>
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/mesh_topology.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace icrkit::eval {
+namespace {
+
+std::vector<std::uint8_t> membership(std::size_t vertex_count, const std::vector<int>& region, const char* what) {
+  std::vector<std::uint8_t> in(vertex_count, 0);
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    const int v = region[i];
+    if (v < 0 || static_cast<std::size_t>(v) >= vertex_count)
+      throw InputError("intersection estimation", std::string(what) + " element " + std::to_string(i),
+                       "vertex " + std::to_string(v) + " is out of range for " + std::to_string(vertex_count) +
+                           " vertices");
+    in[static_cast<std::size_t>(v)] = 1;
+  }
+  return in;
+}
+
+// Inclusive line-triangle test in double precision: a line through a shared
+// vertex or edge touches every face around it, as the paper's "triangles
+// intersected by this line" requires (Embree's watertight test gives such a
+// touch to one face only). Tolerance in barycentric units.
+bool lineTouchesTriangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
+                         const Eigen::Vector3d& b, const Eigen::Vector3d& c, double& t) {
+  constexpr double kTolerance = 1e-9;
+  const Eigen::Vector3d e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d h = direction.cross(e2);
+  const double det = e1.dot(h);
+  if (std::abs(det) <= 1e-14 * e1.norm() * e2.norm()) return false;  // line parallel to the face
+  const Eigen::Vector3d s = origin - a;
+  const double u = s.dot(h) / det;
+  if (u < -kTolerance || u > 1.0 + kTolerance) return false;
+  const Eigen::Vector3d q = s.cross(e1);
+  const double v = direction.dot(q) / det;
+  if (v < -kTolerance || u + v > 1.0 + kTolerance) return false;
+  t = e2.dot(q) / det;
+  return true;
+}
+
+double triangleArea(const TriangleMesh& mesh, const Triangle& f) {
+  const auto& p = mesh.vertices.positions;
+  return 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).norm();
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> regionFaceMask(const TriangleMesh& mesh, const std::vector<std::uint8_t>& vertex_in_region) {
+  std::vector<std::uint8_t> mask(mesh.faces.size(), 0);
+  for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
+    const Triangle& f = mesh.faces[i];
+    mask[i] = vertex_in_region[f[0]] && vertex_in_region[f[1]] && vertex_in_region[f[2]] ? 1 : 0;
+  }
+  return mask;
+}
+
+IntersectionEstimator::IntersectionEstimator(const TriangleMesh& cad, const MappingParameters& params)
+    : cad_(&cad), mapping_(cad, params), cad_face_areas_(faceAreas(cad)) {
+  vertex_face_offsets_.assign(cad.vertexCount() + 1, 0);
+  for (const Triangle& f : cad.faces)
+    for (int k = 0; k < 3; ++k) ++vertex_face_offsets_[static_cast<std::size_t>(f[k]) + 1];
+  for (std::size_t v = 0; v < cad.vertexCount(); ++v) vertex_face_offsets_[v + 1] += vertex_face_offsets_[v];
+  vertex_faces_.resize(vertex_face_offsets_.back());
+  std::vector<std::size_t> fill(vertex_face_offsets_.begin(), vertex_face_offsets_.end() - 1);
+  for (std::size_t i = 0; i < cad.faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) vertex_faces_[fill[static_cast<std::size_t>(cad.faces[i][k])]++] = static_cast<int>(i);
+}
+
+RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_region, const TriangleMesh& scan,
+                                                   const std::vector<int>& scan_region) const {
+  const TriangleMesh& cad = *cad_;
+  const auto cad_in = membership(cad.vertexCount(), cad_region, "CAD region");
+  const auto scan_in = membership(scan.vertexCount(), scan_region, "scan region");
+  const FaceMask cad_faces = regionFaceMask(cad, cad_in);
+
+  RegionIntersection result;
+  for (std::size_t i = 0; i < cad_faces.size(); ++i)
+    if (cad_faces[i]) result.cad_region_area_m2 += cad_face_areas_[i];
+
+  result.mapped_vertices.resize(scan_region.size(), -1);
+  result.inside.assign(scan_region.size(), 0);
+  const auto images = mapping_.mapVertices(scan, scan_region);
+  const bool any_cad_face = std::any_of(cad_faces.begin(), cad_faces.end(), [](std::uint8_t f) { return f != 0; });
+  const double reach = mapping_.target().maxLineDistance();
+  const RayCaster& caster = mapping_.target().rayCaster();
+  const auto& positions = cad.vertices.positions;
+  std::vector<std::uint8_t> crossed(cad.faces.size(), 0);
+  for (std::size_t i = 0; i < scan_region.size(); ++i) {
+    const int image = images[i].vertex;
+    result.mapped_vertices[i] = image;
+    if (image < 0) {
+      ++result.unmapped;
+      continue;
+    }
+    if (!any_cad_face) continue;
+    const Eigen::Vector3d& origin = scan.vertices.positions[static_cast<std::size_t>(scan_region[i])];
+    const Eigen::Vector3d direction = cad.vertices.normals[static_cast<std::size_t>(image)].normalized();
+    // Embree finds where the line meets the CAD surface (any face); the
+    // region's faces around each such place are then tested exactly.
+    for (const RayHit& hit : caster.allHitsOnLine(origin, direction)) {
+      if (std::abs(hit.distance) > reach) continue;
+      const Triangle& hit_face = cad.faces[static_cast<std::size_t>(hit.face)];
+      for (int k = 0; k < 3; ++k) {
+        const auto corner = static_cast<std::size_t>(hit_face[k]);
+        for (std::size_t j = vertex_face_offsets_[corner]; j < vertex_face_offsets_[corner + 1]; ++j) {
+          const auto face = static_cast<std::size_t>(vertex_faces_[j]);
+          if (!cad_faces[face]) continue;
+          const Triangle& f = cad.faces[face];
+          double t = 0.0;
+          if (!lineTouchesTriangle(origin, direction, positions[f[0]], positions[f[1]], positions[f[2]], t) ||
+              std::abs(t) > reach)
+            continue;
+          crossed[face] = 1;
+          result.inside[i] = 1;
+        }
+      }
+    }
+  }
+  for (std::size_t i = 0; i < crossed.size(); ++i)
+    if (crossed[i]) {
+      result.intersection_faces.push_back(static_cast<int>(i));
+      result.intersection_area_m2 += cad_face_areas_[i];
+    }
+
+  // Outside-ness per scan vertex, then each region triangle's area in thirds.
+  std::vector<std::uint8_t> outside(scan.vertexCount(), 0);
+  for (std::size_t i = 0; i < scan_region.size(); ++i)
+    if (!result.inside[i]) outside[static_cast<std::size_t>(scan_region[i])] = 1;
+  for (const Triangle& f : scan.faces) {
+    if (!(scan_in[f[0]] && scan_in[f[1]] && scan_in[f[2]])) continue;
+    const double area = triangleArea(scan, f);
+    result.scan_region_area_m2 += area;
+    const int outside_corners = outside[f[0]] + outside[f[1]] + outside[f[2]];
+    result.false_positive_area_m2 += area * outside_corners / 3.0;
+  }
+  return result;
+}
+
+}  // namespace icrkit::eval
