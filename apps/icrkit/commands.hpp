@@ -23,5 +23,8 @@ void addDatasetsCommand(CLI::App& app, CommandRunner& runner);
 void addCalibrateCommand(CLI::App& app, CommandRunner& runner);
 void addReconstructCommand(CLI::App& app, CommandRunner& runner);
 void addCalibrateRangeCommand(CLI::App& app, CommandRunner& runner);
+void addEvaluateCommand(CLI::App& app, CommandRunner& runner);
+void addMergeCommand(CLI::App& app, CommandRunner& runner);
+void addPaperCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

@@ -35,6 +35,9 @@ int main(int argc, char** argv) {
   addCalibrateCommand(app, runner);
   addReconstructCommand(app, runner);
   addCalibrateRangeCommand(app, runner);
+  addEvaluateCommand(app, runner);
+  addMergeCommand(app, runner);
+  addPaperCommand(app, runner);
 
   try {
     app.parse(argc, argv);

@@ -48,10 +48,14 @@ struct Best {
 };
 
 bool isCandidate(const TriangleMesh& mesh, int v, const Eigen::Vector3d& anchor, int face, double radius) {
-  if ((mesh.vertices.positions[static_cast<std::size_t>(v)] - anchor).norm() <= radius) return true;
-  if (face < 0) return false;
-  const Triangle& f = mesh.faces[static_cast<std::size_t>(face)];
-  return f[0] == v || f[1] == v || f[2] == v;
+  if (face >= 0) {
+    const Triangle& f = mesh.faces[static_cast<std::size_t>(face)];
+    if (f[0] == v || f[1] == v || f[2] == v) return true;
+  }
+  if ((mesh.vertices.positions[static_cast<std::size_t>(v)] - anchor).norm() > radius) return false;
+  for (const Triangle& f : mesh.faces)  // used by some face: part of the surface
+    if (f[0] == v || f[1] == v || f[2] == v) return true;
+  return false;
 }
 
 }  // namespace

@@ -91,6 +91,7 @@ RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_r
   const RayCaster& caster = mapping_.target().rayCaster();
   const auto& positions = cad.vertices.positions;
   std::vector<std::uint8_t> crossed(cad.faces.size(), 0);
+  std::vector<int> seeds;
   for (std::size_t i = 0; i < scan_region.size(); ++i) {
     const int image = images[i].vertex;
     result.mapped_vertices[i] = image;
@@ -101,13 +102,21 @@ RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_r
     if (!any_cad_face) continue;
     const Eigen::Vector3d& origin = scan.vertices.positions[static_cast<std::size_t>(scan_region[i])];
     const Eigen::Vector3d direction = cad.vertices.normals[static_cast<std::size_t>(image)].normalized();
-    // Embree finds where the line meets the CAD surface (any face); the
-    // region's faces around each such place are then tested exactly.
-    for (const RayHit& hit : caster.allHitsOnLine(origin, direction)) {
-      if (std::abs(hit.distance) > reach) continue;
-      const Triangle& hit_face = cad.faces[static_cast<std::size_t>(hit.face)];
+    // Where to look: the faces Embree finds the line meeting (any face),
+    // and the faces at p^C, which the line passes within line_distance of
+    // (Embree's single-precision test can miss a line through a vertex on
+    // sliver triangles or at a hole's rim). The region's faces sharing a
+    // corner with these are then tested exactly.
+    seeds.clear();
+    for (const RayHit& hit : caster.allHitsOnLine(origin, direction))
+      if (std::abs(hit.distance) <= reach) seeds.push_back(hit.face);
+    const auto mapped = static_cast<std::size_t>(image);
+    for (std::size_t j = vertex_face_offsets_[mapped]; j < vertex_face_offsets_[mapped + 1]; ++j)
+      seeds.push_back(vertex_faces_[j]);
+    for (const int seed : seeds) {
+      const Triangle& seed_face = cad.faces[static_cast<std::size_t>(seed)];
       for (int k = 0; k < 3; ++k) {
-        const auto corner = static_cast<std::size_t>(hit_face[k]);
+        const auto corner = static_cast<std::size_t>(seed_face[k]);
         for (std::size_t j = vertex_face_offsets_[corner]; j < vertex_face_offsets_[corner + 1]; ++j) {
           const auto face = static_cast<std::size_t>(vertex_faces_[j]);
           if (!cad_faces[face]) continue;

@@ -62,6 +62,11 @@ MappingTarget::MappingTarget(const TriangleMesh& mesh, const MappingParameters& 
   if (mesh.faces.empty()) throw InputError(kSource, "target mesh", "the target mesh has no faces");
   if (!(max_line_distance_ > 0.0))
     throw InputError(kSource, "maximum line distance", "expected a length > 0 (metres)");
+  // Vertices that no face uses (points ball pivoting left unmeshed) are not
+  // part of the surface: the mappings never choose them.
+  in_surface_.assign(mesh.vertexCount(), 0);
+  for (const Triangle& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) in_surface_[static_cast<std::size_t>(f[k])] = 1;
   if (radius_ == 0.0) radius_ = 2.0 * medianEdgeLength(mesh);
   if (!(radius_ > 0.0))
     throw InputError(kSource, "target mesh", "its median edge length is 0, so no neighbourhood radius exists; give one");
@@ -69,6 +74,7 @@ MappingTarget::MappingTarget(const TriangleMesh& mesh, const MappingParameters& 
 
 void MappingTarget::candidates(const Eigen::Vector3d& surface_point, int face, std::vector<std::size_t>& out) const {
   tree_.indicesWithinRadius(surface_point, radius_, out);
+  out.erase(std::remove_if(out.begin(), out.end(), [&](std::size_t v) { return in_surface_[v] == 0; }), out.end());
   // A crossed face larger than the radius still offers its own corners.
   if (face >= 0)
     for (int k = 0; k < 3; ++k) out.push_back(static_cast<std::size_t>(mesh_->faces[static_cast<std::size_t>(face)][k]));

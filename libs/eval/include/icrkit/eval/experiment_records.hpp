@@ -54,7 +54,8 @@ struct GraspRecord {
 };
 
 /// One JSON object on one line (no trailing newline); exact round trip of
-/// every field (doubles written with 17 significant digits).
+/// every field (doubles in the shortest form that reads back bit-identical;
+/// non-finite ones as the strings "NaN", "Infinity", "-Infinity").
 std::string toJsonLine(const GraspRecord& record);
 /// Throws InputError naming `source` and `line` (1-based) for malformed input.
 GraspRecord fromJsonLine(const std::string& text, const std::string& source = "grasps.jsonl", std::size_t line = 0);

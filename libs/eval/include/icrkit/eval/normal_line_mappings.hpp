@@ -28,6 +28,8 @@
 ///   normal, candidates whose CAD normal faces the other way are dropped
 ///   unless none is left (thin walls).
 ///
+/// Vertices used by no face (points left unmeshed) are never chosen.
+///
 /// Ties break on the distance to the crossing (or nearest surface point),
 /// then the lower index, so
 /// every answer is a deterministic function of the meshes.
@@ -39,6 +41,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace icrkit::eval {
@@ -74,13 +77,15 @@ public:
   double neighbourhoodRadius() const { return radius_; }
   double maxLineDistance() const { return max_line_distance_; }
 
-  /// The candidate target vertices around a surface point on `face`.
+  /// The candidate target vertices around a surface point on `face`: those
+  /// within the neighbourhood radius that some face uses, and the face's own.
   void candidates(const Eigen::Vector3d& surface_point, int face, std::vector<std::size_t>& out) const;
 
 private:
   const TriangleMesh* mesh_;
   RayCaster caster_;
   KdTree tree_;
+  std::vector<std::uint8_t> in_surface_;  ///< per vertex: used by a face
   double radius_;
   double max_line_distance_;
 };

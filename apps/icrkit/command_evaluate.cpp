@@ -1,0 +1,217 @@
+// `icrkit evaluate --cad CAD --raw RAW --filtered FILTERED -o DIR`: the
+// paper's experiment (Section IV) on one object, and `icrkit merge` which
+// combines the run folders of shards into the same outputs.
+
+#include "argument_parsing.hpp"
+#include "commands.hpp"
+#include "experiment_options.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/mesh_normals.hpp>
+#include <icrkit/eval/experiment.hpp>
+#include <icrkit/eval/experiment_outputs.hpp>
+#include <icrkit/eval/results_tables.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+
+namespace icrkit::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EvaluateOptions {
+  std::string cad, raw, filtered, name, output;
+  bool compute_normals = false;
+  ExperimentOptions experiment;
+};
+
+TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandContext& context) {
+  TriangleMesh mesh = io::readTriangleMesh(path);
+  if (mesh.faces.empty()) throw InputError(path, "", "has no faces; the evaluation needs a triangle mesh");
+  if (!mesh.vertices.hasNormals()) {
+    if (!compute)
+      throw InputError(path, "", "has no vertex normals (PLY nx/ny/nz or OBJ vn); pass --compute-normals to derive them");
+    computeVertexNormals(mesh);
+    context.note("icrkit: " + path + ": vertex normals computed from the faces");
+  }
+  return mesh;
+}
+
+void requireOutputFolder(const std::string& output) {
+  std::error_code error;
+  if (fs::exists(output, error) && !fs::is_directory(output, error))
+    throw InputError(output, "", "exists and is not a directory");
+}
+
+nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
+  const eval::ExperimentConfig config = o.experiment.config();
+  const eval::Shard shard = o.experiment.parsedShard();
+  requireOutputFolder(o.output);
+  const std::string name = o.name.empty() ? fs::path(o.cad).stem().string() : o.name;
+
+  const double read_start = context.elapsedMs();
+  const TriangleMesh cad = readMeshWithNormals(o.cad, o.compute_normals, context);
+  const TriangleMesh raw = readMeshWithNormals(o.raw, o.compute_normals, context);
+  const TriangleMesh filtered = readMeshWithNormals(o.filtered, o.compute_normals, context);
+  const double read_ms = context.elapsedMs() - read_start;
+
+  const double prepare_start = context.elapsedMs();
+  const eval::DatasetExperiment experiment({name, &cad, &raw, &filtered}, config);
+  const double prepare_ms = context.elapsedMs() - prepare_start;
+  // The nominal work list, as in `icrkit paper`: shards of both agree.
+  const auto [begin, end] = shard.range(config.finger_counts.size() * config.grasps_per_set);
+  context.note("evaluating " + std::to_string(end - begin) + " of " + std::to_string(experiment.itemCount()) +
+               " grasps on " + name);
+  const double run_start = context.elapsedMs();
+  std::vector<eval::GraspRecord> records = experiment.run(begin, end, context.progress());
+  const double run_ms = context.elapsedMs() - run_start;
+
+  nlohmann::json sampled;
+  for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment.sampledGrasps(f);
+  nlohmann::json run{{"command", "evaluate"},
+                     {"config", experimentConfigJson(config)},
+                     {"shard", {{"index", shard.index}, {"count", shard.count}}},
+                     {"datasets",
+                      {{{"name", name},
+                        {"cad", o.cad},
+                        {"raw", o.raw},
+                        {"filtered", o.filtered},
+                        {"cad_vertices", cad.vertexCount()},
+                        {"raw_vertices", raw.vertexCount()},
+                        {"filtered_vertices", filtered.vertexCount()},
+                        {"lambda_m", experiment.cadLambda()},
+                        {"grasps_sampled", sampled},
+                        {"items", experiment.itemCount()}}}}};
+
+  eval::ExperimentOutputs outputs;
+  outputs.dataset_order = {name};
+  outputs.finger_counts = config.finger_counts;
+  outputs.run_json = run.dump();
+  const double write_start = context.elapsedMs();
+  const auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+
+  const eval::TableOne table = eval::computeTableOne(records);
+  const eval::EligibilitySummary eligibility = eval::computeEligibility(records);
+  nlohmann::json summary = nlohmann::json::parse(eval::tableOneJson(table));
+  return {{"output", o.output},
+          {"dataset", name},
+          {"grasps", records.size()},
+          {"shard", {{"index", shard.index}, {"count", shard.count}}},
+          {"table1", summary},
+          {"eligibility", nlohmann::json::parse(eval::eligibilityJson(eligibility))["overall"]},
+          {"files", files},
+          {"time_ms",
+           {{"read", read_ms},
+            {"prepare", prepare_ms},
+            {"grasps", run_ms},
+            {"write", context.elapsedMs() - write_start},
+            {"total", context.elapsedMs()}}}};
+}
+
+struct MergeOptions {
+  std::vector<std::string> inputs;
+  std::string output;
+};
+
+nlohmann::json readRunJson(const std::string& directory) {
+  const std::string path = (fs::path(directory) / "run.json").string();
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "", "cannot be read; expected the run folder of `icrkit evaluate` or `icrkit paper`");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const std::exception& error) {
+    throw InputError(path, "", std::string("is not valid JSON: ") + error.what());
+  }
+}
+
+nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
+  requireOutputFolder(o.output);
+  if (o.inputs.empty()) throw InputError("merge", "", "expected at least one run folder");
+  std::vector<eval::GraspRecord> records;
+  std::set<std::size_t> shards;
+  nlohmann::json first;
+  std::size_t count = 0;
+  for (const std::string& input : o.inputs) {
+    const nlohmann::json run = readRunJson(input);
+    const std::size_t index = run.at("shard").at("index"), n = run.at("shard").at("count");
+    nlohmann::json comparable = run;
+    comparable.erase("shard");
+    comparable.erase("time_ms");
+    if (first.is_null()) {
+      first = comparable;
+      count = n;
+    } else if (comparable != first || n != count) {
+      throw InputError((fs::path(input) / "run.json").string(), "",
+                       "its parameters, datasets or shard count differ from those of " + o.inputs.front());
+    }
+    if (!shards.insert(index).second)
+      throw InputError(input, "", "shard " + std::to_string(index) + " is given twice");
+    auto part = eval::readGraspRecords((fs::path(input) / "grasps.jsonl").string());
+    records.insert(records.end(), part.begin(), part.end());
+  }
+  std::vector<std::size_t> missing;
+  for (std::size_t i = 0; i < count; ++i)
+    if (!shards.count(i)) missing.push_back(i);
+  if (!missing.empty()) {
+    std::string list;
+    for (const std::size_t m : missing) list += (list.empty() ? "" : ",") + std::to_string(m);
+    throw InputError("merge", "", "shards missing: " + list + " of " + std::to_string(count));
+  }
+  std::sort(records.begin(), records.end());
+  for (std::size_t i = 1; i < records.size(); ++i)
+    if (!(records[i - 1] < records[i]))
+      throw InputError("merge", "",
+                       "grasp " + records[i].dataset + "/" + std::to_string(records[i].fingers) + "/" +
+                           std::to_string(records[i].index) + " appears in two shards");
+
+  nlohmann::json run = first;
+  run["shard"] = {{"index", 0}, {"count", 1}};
+  run["merged_from"] = o.inputs;
+  eval::ExperimentOutputs outputs;
+  for (const auto& dataset : first.at("datasets")) outputs.dataset_order.push_back(dataset.at("name"));
+  for (const auto& f : first.at("config").at("finger_counts")) outputs.finger_counts.push_back(f);
+  outputs.run_json = run.dump();
+  const auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  context.note("merged " + std::to_string(o.inputs.size()) + " shards, " + std::to_string(records.size()) + " grasps");
+  return {{"output", o.output}, {"shards", o.inputs.size()}, {"grasps", records.size()}, {"files", files},
+          {"time_ms", {{"total", context.elapsedMs()}}}};
+}
+
+}  // namespace
+
+void addEvaluateCommand(CLI::App& app, CommandRunner& runner) {
+  auto* command = app.add_subcommand(
+      "evaluate",
+      "The paper's experiment on one object: random force-closure grasps on the CAD mesh, moved onto the raw and "
+      "filtered meshes by eq. (2); where both still meet the task, ICRs on all three meshes compared by Algorithm 2 "
+      "(Int, FP) and Q_n. Writes DIR/table1.{md,csv,json}, eligibility.json, fig8_<N>fingers.{svg,png,json}, "
+      "grasps.jsonl and run.json (docs/evaluation.md)");
+  auto o = std::make_shared<EvaluateOptions>();
+  command->add_option("--cad", o->cad, "Ground-truth CAD mesh (with vertex normals)")->required();
+  command->add_option("--raw", o->raw, "Raw reconstructed mesh (icrkit reconstruct: raw.ply)")->required();
+  command->add_option("--filtered", o->filtered,
+                      "Filtered reconstructed mesh with the `excluded` attribute (icrkit reconstruct: filtered.ply)")
+      ->required();
+  command->add_option("--name", o->name, "Dataset name in the tables (default: the CAD file's stem)");
+  command->add_flag("--compute-normals", o->compute_normals, "Derive missing vertex normals from the faces");
+  o->experiment.addTo(*command);
+  command->add_option("-o,--output", o->output, "Output folder (created; files replaced atomically)")->required();
+  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(evaluate(*o, context)); }; });
+}
+
+void addMergeCommand(CLI::App& app, CommandRunner& runner) {
+  auto* command = app.add_subcommand(
+      "merge", "Combine the run folders of `icrkit evaluate/paper --shard i/N` (all N of them) into one set of "
+               "tables and figures, identical to an unsharded run (docs/scaling.md)");
+  auto o = std::make_shared<MergeOptions>();
+  command->add_option("inputs", o->inputs, "Shard run folders")->required();
+  command->add_option("-o,--output", o->output, "Output folder")->required();
+  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(merge(*o, context)); }; });
+}
+
+}  // namespace icrkit::app

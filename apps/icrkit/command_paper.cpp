@@ -1,0 +1,177 @@
+// `icrkit paper -o DIR`: the paper's whole study on simulated data — make the
+// nine datasets, reconstruct each (raw and filtered meshes), run the
+// experiment on each against its CAD mesh, and write Table I, the
+// eligibility rates and both Fig. 8 histograms (docs/results.md).
+
+#include "argument_parsing.hpp"
+#include "commands.hpp"
+#include "experiment_options.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/eval/experiment.hpp>
+#include <icrkit/eval/experiment_outputs.hpp>
+#include <icrkit/eval/results_tables.hpp>
+#include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+#include <icrkit/sim/dataset.hpp>
+
+#include <filesystem>
+#include <memory>
+
+namespace icrkit::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PaperOptions {
+  std::string output;
+  std::string datasets;  ///< empty: all nine
+  int views = 0;         ///< 0: each dataset's own
+  bool reuse = false;
+  ExperimentOptions experiment;
+};
+
+std::vector<sim::DatasetSpec> chosenDatasets(const PaperOptions& o) {
+  std::vector<sim::DatasetSpec> specs = sim::paperDatasets();
+  if (!o.datasets.empty()) {
+    std::vector<sim::DatasetSpec> chosen;
+    for (const std::string& name : split(o.datasets, ',')) {
+      const auto it = std::find_if(specs.begin(), specs.end(),
+                                   [&](const sim::DatasetSpec& s) { return sim::datasetName(s) == name; });
+      if (it == specs.end()) throw InputError("--datasets", "", "unknown dataset '" + name + "' (see icrkit datasets list)");
+      chosen.push_back(*it);
+    }
+    specs = chosen;
+  }
+  if (o.views < 0) throw InputError("--views", "", "expected 0 (the dataset's own) or a positive count");
+  if (o.views > 0)
+    for (sim::DatasetSpec& s : specs) s.acquisition.views = o.views;
+  return specs;
+}
+
+// A stage label with the dataset's place in the run, for the progress line.
+ProgressCallback staged(const ProgressCallback& progress, const std::string& prefix) {
+  if (!progress) return {};
+  return [progress, prefix](const std::string& stage, std::size_t done, std::size_t total) {
+    progress(prefix + stage, done, total);
+  };
+}
+
+nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
+  const eval::ExperimentConfig config = o.experiment.config();
+  const eval::Shard shard = o.experiment.parsedShard();
+  const std::vector<sim::DatasetSpec> specs = chosenDatasets(o);
+  std::error_code error;
+  if (fs::exists(o.output, error) && !fs::is_directory(o.output, error))
+    throw InputError(o.output, "", "exists and is not a directory");
+
+  // Shards split the nominal work list (datasets x finger counts x grasps)
+  // into contiguous blocks, so a shard only makes the datasets it needs.
+  const std::size_t per_dataset = config.finger_counts.size() * config.grasps_per_set;
+  const auto [begin, end] = shard.range(per_dataset * specs.size());
+
+  std::vector<eval::GraspRecord> records;
+  nlohmann::json datasets = nlohmann::json::array();
+  nlohmann::json stage_times = nlohmann::json::array();
+  std::vector<std::string> order;
+  for (std::size_t d = 0; d < specs.size(); ++d) {
+    const std::string name = sim::datasetName(specs[d]);
+    order.push_back(name);
+    const std::size_t first = d * per_dataset, last = first + per_dataset;
+    if (last <= begin || first >= end) continue;
+    const std::string prefix = "[" + std::to_string(d + 1) + "/" + std::to_string(specs.size()) + "] " + name + ": ";
+    const fs::path data_dir = fs::path(o.output) / "datasets" / name;
+    const fs::path rec_dir = fs::path(o.output) / "reconstructions" / name;
+    nlohmann::json times;
+
+    double start = context.elapsedMs();
+    if (!(o.reuse && fs::exists(data_dir / "manifest.json"))) {
+      context.note(prefix + "simulating");
+      sim::simulateDataset(specs[d], data_dir.string(), staged(context.progress(), prefix));
+    }
+    times["simulate"] = context.elapsedMs() - start;
+
+    start = context.elapsedMs();
+    TriangleMesh raw, filtered;
+    if (o.reuse && fs::exists(rec_dir / "filtered.ply") && fs::exists(rec_dir / "raw.ply")) {
+      raw = io::readTriangleMesh((rec_dir / "raw.ply").string());
+      filtered = io::readTriangleMesh((rec_dir / "filtered.ply").string());
+    } else {
+      context.note(prefix + "reconstructing");
+      reconstruction::ReconstructionResult result = reconstruction::reconstructRawlog(
+          (data_dir / "scans.rawlog").string(), reconstruction::ReconstructionParameters{},
+          staged(context.progress(), prefix));
+      fs::create_directories(rec_dir, error);
+      if (error) throw InputError(rec_dir.string(), "", "cannot create the directory: " + error.message());
+      io::writeTriangleMesh((rec_dir / "raw.ply").string(), result.raw_mesh);
+      io::writeTriangleMesh((rec_dir / "filtered.ply").string(), result.filtered_mesh);
+      raw = std::move(result.raw_mesh);
+      filtered = std::move(result.filtered_mesh);
+    }
+    times["reconstruct"] = context.elapsedMs() - start;
+
+    start = context.elapsedMs();
+    const TriangleMesh cad = io::readTriangleMesh((data_dir / "object.ply").string());
+    const eval::DatasetExperiment experiment({name, &cad, &raw, &filtered}, config);
+    const std::size_t local_begin = std::max(begin, first) - first, local_end = std::min(end, last) - first;
+    context.note(prefix + "evaluating grasps " + std::to_string(local_begin) + ".." + std::to_string(local_end));
+    auto part = experiment.run(local_begin, local_end, staged(context.progress(), prefix));
+    times["evaluate"] = context.elapsedMs() - start;
+    records.insert(records.end(), part.begin(), part.end());
+
+    nlohmann::json sampled;
+    for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment.sampledGrasps(f);
+    datasets.push_back({{"name", name},
+                        {"cad_vertices", cad.vertexCount()},
+                        {"raw_vertices", raw.vertexCount()},
+                        {"filtered_vertices", filtered.vertexCount()},
+                        {"lambda_m", experiment.cadLambda()},
+                        {"grasps_sampled", sampled}});
+    stage_times.push_back({{"dataset", name}, {"time_ms", times}});
+  }
+
+  // run.json must be the same for every shard of one study (merge checks):
+  // all chosen datasets are listed by name, whatever this shard touched.
+  nlohmann::json names = nlohmann::json::array();
+  for (const std::string& n : order) names.push_back({{"name", n}});
+  nlohmann::json run{{"command", "paper"},
+                     {"config", experimentConfigJson(config)},
+                     {"views", o.views},
+                     {"reconstruction", "icrkit reconstruct defaults"},
+                     {"shard", {{"index", shard.index}, {"count", shard.count}}},
+                     {"datasets", names}};
+  eval::ExperimentOutputs outputs;
+  outputs.dataset_order = order;
+  outputs.finger_counts = config.finger_counts;
+  outputs.run_json = run.dump();
+  const auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+
+  const eval::TableOne table = eval::computeTableOne(records, {order, 0});
+  return {{"output", o.output},
+          {"datasets", datasets},
+          {"grasps", records.size()},
+          {"shard", {{"index", shard.index}, {"count", shard.count}}},
+          {"table1", nlohmann::json::parse(eval::tableOneJson(table))},
+          {"eligibility", nlohmann::json::parse(eval::eligibilityJson(eval::computeEligibility(records)))["overall"]},
+          {"files", files},
+          {"time_ms", {{"stages", stage_times}, {"total", context.elapsedMs()}}}};
+}
+
+}  // namespace
+
+void addPaperCommand(CLI::App& app, CommandRunner& runner) {
+  auto* command = app.add_subcommand(
+      "paper",
+      "The paper's whole study on simulated data: make the nine datasets (DIR/datasets), reconstruct them "
+      "(DIR/reconstructions), run the experiment of `icrkit evaluate` on each and write Table I, eligibility.json, "
+      "the Fig. 8 histograms, grasps.jsonl and run.json to DIR (docs/results.md)");
+  auto o = std::make_shared<PaperOptions>();
+  command->add_option("--datasets", o->datasets, "Comma-separated dataset names (default: all nine)");
+  command->add_option("--views", o->views, "Views per dataset (0: each dataset's own)")->capture_default_str();
+  command->add_flag("--reuse", o->reuse, "Keep datasets and reconstructions already in DIR from an earlier run");
+  o->experiment.addTo(*command);
+  command->add_option("-o,--output", o->output, "Output folder")->required();
+  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(paper(*o, context)); }; });
+}
+
+}  // namespace icrkit::app

@@ -1,0 +1,105 @@
+#include "experiment_options.hpp"
+
+#include "argument_parsing.hpp"
+#include "contact_model_options.hpp"
+
+#include <icrkit/core/error.hpp>
+
+#include <cmath>
+
+namespace icrkit::app {
+
+void ExperimentOptions::addTo(CLI::App& command) {
+  command.add_option("--fingers", fingers, "Finger counts of the test sets, comma-separated")->capture_default_str();
+  command.add_option("--grasps", grasps, "Random CAD grasps per finger count and dataset")
+      ->check(atLeast(1))
+      ->capture_default_str();
+  command.add_option("--seed", seed, "Seed of the grasp sampling (set for f fingers: seed * 1000 + f)")
+      ->capture_default_str();
+  command.add_option("--mu", mu, "Friction coefficient of the frictional point contacts")->capture_default_str();
+  command.add_option("--edges", edges, "Edges of the linearised friction cones")->capture_default_str();
+  command.add_option("--alpha", alpha, "TWS radius = alpha x epsilon of the CAD grasp")->capture_default_str();
+  command.add_option("--mode", mode, "Region growth: bfs (from the contact) or full (every vertex)")
+      ->capture_default_str();
+  command.add_option("--metric", metric, "Distances of Q_n: geodesic (CAD mesh edge graph) or euclidean")
+      ->capture_default_str();
+  command.add_option("--max-line-distance", max_line_distance,
+                     "Normal-line crossings farther than this (metres) are ignored (the object's far side)")
+      ->capture_default_str();
+  command.add_option("--neighbourhood-radius", neighbourhood_radius,
+                     "Candidate vertices around a crossing, metres (0: twice the target's median edge)")
+      ->capture_default_str();
+  command.add_flag("--no-preselection", no_preselection,
+                   "Ignore the filtered mesh's `excluded` flags (smoothing alone; a diagnostic, not the paper's method)");
+  command.add_option("--shard", shard, "Run shard i of N (0-based) of the work; combine with `icrkit merge`")
+      ->capture_default_str();
+}
+
+eval::Shard ExperimentOptions::parsedShard() const {
+  const auto parts = split(shard, '/');
+  double index = 0, count = 0;
+  if (parts.size() != 2 || !parseNumber(parts[0], index) || !parseNumber(parts[1], count) || index < 0 ||
+      count < 1 || index != std::floor(index) || count != std::floor(count) || index >= count)
+    throw InputError("--shard", "", "expected i/N with 0 <= i < N, got '" + shard + "'");
+  return {static_cast<std::size_t>(index), static_cast<std::size_t>(count)};
+}
+
+eval::ExperimentConfig ExperimentOptions::config() const {
+  eval::ExperimentConfig config;
+  config.finger_counts.clear();
+  for (const std::string& text : split(fingers, ',')) {
+    double value = 0;
+    if (!parseNumber(text, value) || value != std::floor(value) || value < 2 || value > 20)
+      throw InputError("--fingers", "", "expected finger counts 2..20 separated by commas, got '" + fingers + "'");
+    config.finger_counts.push_back(static_cast<std::size_t>(value));
+  }
+  config.grasps_per_set = grasps;
+  config.seed = seed;
+  config.friction = mu;
+  config.cone_edges = edges;
+  if (!(alpha > 0.0 && alpha <= 1.0)) throw InputError("--alpha", "", "expected 0 < alpha <= 1");
+  config.alpha = alpha;
+  if (mode == "bfs")
+    config.growth = icr::GrowthMode::BreadthFirst;
+  else if (mode == "full")
+    config.growth = icr::GrowthMode::Full;
+  else
+    throw InputError("--mode", "", "expected bfs or full, got '" + mode + "'");
+  if (metric == "geodesic")
+    config.metric = eval::DistanceMetric::Geodesic;
+  else if (metric == "euclidean")
+    config.metric = eval::DistanceMetric::Euclidean;
+  else
+    throw InputError("--metric", "", "expected geodesic or euclidean, got '" + metric + "'");
+  if (!(max_line_distance > 0.0) || !std::isfinite(max_line_distance))
+    throw InputError("--max-line-distance", "", "expected metres > 0");
+  config.mapping.max_line_distance = max_line_distance;
+  if (!(neighbourhood_radius >= 0.0) || !std::isfinite(neighbourhood_radius))
+    throw InputError("--neighbourhood-radius", "", "expected metres >= 0 (0: automatic)");
+  config.mapping.neighbourhood_radius = neighbourhood_radius;
+  config.preselection = !no_preselection;
+  try {
+    config.validate();
+  } catch (const InputError& error) {
+    throw InputError("--mu/--edges/--fingers", "", error.detail());
+  }
+  return config;
+}
+
+nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {
+  return {{"finger_counts", config.finger_counts},
+          {"grasps_per_set", config.grasps_per_set},
+          {"seed", config.seed},
+          {"contact_model", contactModelJson(config.contactModel())},
+          {"alpha", config.alpha},
+          {"growth", config.growth == icr::GrowthMode::BreadthFirst ? "bfs" : "full"},
+          {"metric", config.metric == eval::DistanceMetric::Euclidean                   ? "euclidean"
+                     : config.paths == eval::GeodesicPaths::EdgesAndUnfoldedDiagonals ? "geodesic_edges_and_unfolded_diagonals"
+                                                                                      : "geodesic_edges"},
+          {"max_line_distance_m", config.mapping.max_line_distance},
+          {"neighbourhood_radius_m", config.mapping.neighbourhood_radius},
+          {"preselection", config.preselection},
+          {"wrench_frame", "CAD mesh centroid, lambda = largest CAD vertex distance from it"}};
+}
+
+}  // namespace icrkit::app

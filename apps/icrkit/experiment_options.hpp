@@ -1,0 +1,37 @@
+#pragma once
+// Options shared by `icrkit evaluate` and `icrkit paper`: the experiment's
+// parameters (Section IV of the paper) and the shard, reported identically
+// in both commands' run.json.
+
+#include <icrkit/eval/experiment.hpp>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace icrkit::app {
+
+struct ExperimentOptions {
+  std::string fingers = "4,5";
+  std::size_t grasps = 200;
+  std::uint64_t seed = 1;
+  double mu = 0.8;
+  int edges = 8;
+  double alpha = 0.8;
+  std::string mode = "bfs";
+  std::string metric = "geodesic";
+  double max_line_distance = 0.01;
+  double neighbourhood_radius = 0.0;
+  std::string shard = "0/1";
+  bool no_preselection = false;
+
+  void addTo(CLI::App& command);
+  /// Validated (InputError naming the option).
+  eval::ExperimentConfig config() const;
+  eval::Shard parsedShard() const;
+};
+
+nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config);
+
+}  // namespace icrkit::app

@@ -1,0 +1,27 @@
+#pragma once
+/// \file
+/// The files of an experiment run directory, all computed from the grasp
+/// records (so a merged set of shards gives the same files as one run):
+/// grasps.jsonl, table1.{md,csv,json}, eligibility.json,
+/// fig8_<N>fingers.{svg,png,json} for each finger count, run.json.
+
+#include <icrkit/eval/experiment_records.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace icrkit::eval {
+
+struct ExperimentOutputs {
+  std::vector<std::string> dataset_order;  ///< Table I row order (others follow sorted)
+  std::vector<std::size_t> finger_counts;  ///< one Fig. 8 per count
+  std::string run_json;                    ///< written verbatim as run.json (parameters, versions)
+};
+
+/// Creates `directory` if needed and writes every file atomically; the
+/// records are written sorted. Returns the paths written.
+std::vector<std::string> writeExperimentOutputs(const std::string& directory, std::vector<GraspRecord> records,
+                                                const ExperimentOutputs& outputs);
+
+}  // namespace icrkit::eval

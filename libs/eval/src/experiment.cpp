@@ -1,0 +1,268 @@
+#include <icrkit/eval/experiment.hpp>
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/eval/intersection_estimation.hpp>
+#include <icrkit/eval/region_quality.hpp>
+#include <icrkit/icr/grasp_sampling.hpp>
+#include <icrkit/icr/graspable_object.hpp>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <set>
+#include <string>
+
+namespace icrkit::eval {
+namespace {
+
+constexpr const char* kSource = "experiment";
+
+void requireNormals(const TriangleMesh* mesh, const std::string& what) {
+  if (!mesh) throw InputError(kSource, what, "no mesh given");
+  if (mesh->faces.empty()) throw InputError(kSource, what, "the mesh has no faces");
+  if (mesh->vertices.normals.size() != mesh->vertexCount())
+    throw InputError(kSource, what, "the mesh needs one normal per vertex");
+}
+
+std::string fingerName(std::size_t finger) { return "contact " + std::to_string(finger); }
+
+}  // namespace
+
+std::pair<std::size_t, std::size_t> Shard::range(std::size_t total) const {
+  // Rounded boundaries: sizes differ by at most one item.
+  const auto boundary = [&](std::size_t i) { return (total * i) / count; };
+  return {boundary(index), boundary(index + 1)};
+}
+
+void Shard::validate() const {
+  if (count < 1 || index >= count)
+    throw InputError("--shard", "", "expected i/N with N >= 1 and 0 <= i < N, got " + std::to_string(index) + "/" +
+                                        std::to_string(count));
+}
+
+void ExperimentConfig::validate() const {
+  if (finger_counts.empty()) throw InputError(kSource, "finger counts", "expected at least one finger count");
+  for (const std::size_t f : finger_counts)
+    if (f < 2 || f > 20)
+      throw InputError(kSource, "finger counts", "expected 2..20 fingers, got " + std::to_string(f));
+  if (std::set<std::size_t>(finger_counts.begin(), finger_counts.end()).size() != finger_counts.size())
+    throw InputError(kSource, "finger counts", "a finger count is repeated");
+  if (grasps_per_set < 1) throw InputError(kSource, "grasps per set", "expected at least 1");
+  if (!(alpha > 0.0 && alpha <= 1.0))
+    throw InputError(kSource, "alpha", "expected 0 < alpha <= 1, got " + std::to_string(alpha));
+  contactModel().validate();
+}
+
+icr::ContactModel ExperimentConfig::contactModel() const {
+  icr::ContactModel model;
+  model.type = icr::ContactType::Frictional;
+  model.friction = friction;
+  model.cone_edges = cone_edges;
+  return model;
+}
+
+struct DatasetExperiment::Impl {
+  DatasetMeshes meshes;
+  ExperimentConfig config;
+  icr::ContactModel model;
+  icr::WrenchFrame frame;
+  icr::GraspableObject cad_object;
+  icr::GraspableObject raw_object;
+  icr::GraspableObject filtered_object;
+  CadToScanMapping to_raw;
+  CadToScanMapping to_filtered;
+  IntersectionEstimator estimator;
+  RegionQualityEvaluator quality;
+  struct TestSet {
+    std::size_t fingers;
+    std::vector<icr::SampledGrasp> grasps;
+  };
+  std::vector<TestSet> test_sets;
+
+  Impl(const DatasetMeshes& m, const ExperimentConfig& c, const icr::WrenchFrame& f)
+      : meshes(m),
+        config(c),
+        model(c.contactModel()),
+        frame(f),
+        cad_object(*m.cad, f),
+        raw_object(*m.raw, f),  // raw meshes are never preselected
+        filtered_object(*m.filtered, f, c.preselection ? icr::exclusionMaskOf(*m.filtered) : std::vector<std::uint8_t>{}),
+        to_raw(*m.raw, c.mapping),
+        to_filtered(*m.filtered, c.mapping),
+        estimator(*m.cad, c.mapping),
+        quality(*m.cad, RegionQualityParameters{c.metric, c.paths}) {}
+
+  MeshOutcome transfer(const std::vector<int>& cad_contacts, double tws_radius, const CadToScanMapping& mapping,
+                       const icr::GraspableObject& object) const;
+  RegionComparison compare(const std::vector<int>& cad_region, const CadRegionSummary& cad_summary,
+                           const TriangleMesh& scan,
+                           const std::vector<int>& scan_region, DistanceWorkspace& workspace) const;
+  GraspRecord evaluate(std::size_t set, std::size_t index, DistanceWorkspace& workspace) const;
+};
+
+MeshOutcome DatasetExperiment::Impl::transfer(const std::vector<int>& cad_contacts, double tws_radius,
+                                              const CadToScanMapping& mapping,
+                                              const icr::GraspableObject& object) const {
+  MeshOutcome outcome;
+  const TriangleMesh& cad = *meshes.cad;
+  for (std::size_t k = 0; k < cad_contacts.size(); ++k) {
+    const auto v = static_cast<std::size_t>(cad_contacts[k]);
+    const VertexImage image = mapping.map(cad.vertices.positions[v], cad.vertices.normals[v]);
+    if (image.vertex < 0) {
+      outcome.contacts.clear();
+      outcome.reason = fingerName(k) + ": the reconstructed mesh is not within reach of the CAD normal line";
+      return outcome;
+    }
+    outcome.contacts.push_back(image.vertex);
+  }
+  for (std::size_t k = 0; k < outcome.contacts.size(); ++k)
+    for (std::size_t j = 0; j < k; ++j)
+      if (outcome.contacts[k] == outcome.contacts[j]) {
+        outcome.reason = fingerName(j) + " and " + fingerName(k) + " map to the same vertex";
+        return outcome;
+      }
+  for (std::size_t k = 0; k < outcome.contacts.size(); ++k)
+    if (object.excluded(static_cast<std::size_t>(outcome.contacts[k]))) {
+      outcome.preselection_passed = false;
+      outcome.reason = fingerName(k) + " lands on a vertex excluded by the preselection";
+      break;
+    }
+  const icr::GraspWrenchSpace gws = icr::graspWrenchSpace(object, outcome.contacts, model);
+  outcome.epsilon = gws.force_closure ? gws.epsilon : 0.0;
+  outcome.task_fulfilled = gws.force_closure && gws.epsilon >= tws_radius;
+  if (outcome.reason.empty() && !outcome.task_fulfilled)
+    outcome.reason = gws.force_closure ? "the GWS does not hold the TWS (epsilon below alpha x the CAD epsilon)"
+                                       : "not force closure: " + gws.reason;
+  return outcome;
+}
+
+RegionComparison DatasetExperiment::Impl::compare(const std::vector<int>& cad_region,
+                                                  const CadRegionSummary& cad_summary, const TriangleMesh& scan,
+                                                  const std::vector<int>& scan_region,
+                                                  DistanceWorkspace& workspace) const {
+  const RegionIntersection intersection = estimator.estimate(cad_region, scan, scan_region);
+  RegionComparison c;
+  c.vertices = scan_region.size();
+  c.area_m2 = intersection.scan_region_area_m2;
+  c.intersection_area_m2 = intersection.intersection_area_m2;
+  c.false_positive_area_m2 = intersection.false_positive_area_m2;
+  if (intersection.cad_region_area_m2 > 0.0) {
+    c.intersection_percent = 100.0 * intersection.intersection_area_m2 / intersection.cad_region_area_m2;
+    c.false_positive_percent = 100.0 * intersection.false_positive_area_m2 / intersection.cad_region_area_m2;
+  }
+  std::vector<int> mapped;
+  mapped.reserve(intersection.mapped_vertices.size());
+  for (const int v : intersection.mapped_vertices)
+    if (v >= 0) mapped.push_back(v);
+  const RegionQuality q = quality.evaluate(cad_summary, mapped, workspace);
+  c.d1_m = q.d1_m;
+  c.d2_m = q.d2_m;
+  c.quality = q.quality;
+  return c;
+}
+
+GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index,
+                                              DistanceWorkspace& workspace) const {
+  const TestSet& test_set = test_sets[set];
+  const icr::SampledGrasp& grasp = test_set.grasps[index];
+  GraspRecord record;
+  record.dataset = meshes.name;
+  record.fingers = test_set.fingers;
+  record.index = index;
+  record.cad_contacts = grasp.contacts;
+  record.cad_epsilon = grasp.epsilon;
+  record.tws_radius = config.alpha * grasp.epsilon;
+  record.raw = transfer(grasp.contacts, record.tws_radius, to_raw, raw_object);
+  record.filtered = transfer(grasp.contacts, record.tws_radius, to_filtered, filtered_object);
+  if (!record.raw.eligible() || !record.filtered.eligible()) return record;
+
+  icr::IcrParameters params;
+  params.contact_model = model;
+  params.tws_radius = record.tws_radius;
+  params.mode = config.growth;
+  const icr::IcrResult cad = icr::computeIndependentContactRegions(cad_object, grasp.contacts, params);
+  const icr::IcrResult raw = icr::computeIndependentContactRegions(raw_object, record.raw.contacts, params);
+  const icr::IcrResult filtered = icr::computeIndependentContactRegions(filtered_object, record.filtered.contacts, params);
+  record.evaluated = true;
+  for (std::size_t n = 0; n < cad.regions.size(); ++n) {
+    const std::vector<int>& cad_region = cad.regions[n].vertices;
+    const CadRegionSummary summary = quality.summarize(cad_region, workspace);
+    record.cad_region_areas_m2.push_back(cad.regions[n].area_m2);
+    record.raw.regions.push_back(compare(cad_region, summary, *meshes.raw, raw.regions[n].vertices, workspace));
+    record.filtered.regions.push_back(
+        compare(cad_region, summary, *meshes.filtered, filtered.regions[n].vertices, workspace));
+  }
+  return record;
+}
+
+namespace {
+
+icr::WrenchFrame cadFrame(const DatasetMeshes& meshes, const ExperimentConfig& config) {
+  config.validate();
+  requireNormals(meshes.cad, "CAD mesh");
+  requireNormals(meshes.raw, "raw mesh");
+  requireNormals(meshes.filtered, "filtered mesh");
+  return icr::makeWrenchFrame(meshes.cad->vertices.positions, icr::TorqueReference::Centroid);
+}
+
+}  // namespace
+
+DatasetExperiment::DatasetExperiment(const DatasetMeshes& meshes, const ExperimentConfig& config)
+    : impl_(std::make_unique<Impl>(meshes, config, cadFrame(meshes, config))) {
+  for (const std::size_t fingers : config.finger_counts) {
+    icr::GraspSamplingParameters sampling;
+    sampling.fingers = fingers;
+    sampling.count = config.grasps_per_set;
+    sampling.seed = config.seed * 1000 + fingers;
+    sampling.max_attempts = config.max_sampling_attempts;
+    impl_->test_sets.push_back({fingers, icr::sampleForceClosureGrasps(impl_->cad_object, impl_->model, sampling)});
+  }
+}
+
+DatasetExperiment::~DatasetExperiment() = default;
+
+std::size_t DatasetExperiment::itemCount() const {
+  std::size_t total = 0;
+  for (const auto& set : impl_->test_sets) total += set.grasps.size();
+  return total;
+}
+
+double DatasetExperiment::cadLambda() const { return impl_->frame.lambda; }
+
+std::size_t DatasetExperiment::sampledGrasps(std::size_t fingers) const {
+  for (const auto& set : impl_->test_sets)
+    if (set.fingers == fingers) return set.grasps.size();
+  return 0;
+}
+
+std::vector<GraspRecord> DatasetExperiment::run(std::size_t begin, std::size_t end,
+                                                const ProgressCallback& progress) const {
+  end = std::min(end, itemCount());
+  if (begin >= end) return {};
+  std::vector<std::pair<std::size_t, std::size_t>> items;  // (set, index)
+  std::size_t position = 0;
+  for (std::size_t s = 0; s < impl_->test_sets.size(); ++s)
+    for (std::size_t i = 0; i < impl_->test_sets[s].grasps.size(); ++i, ++position)
+      if (position >= begin && position < end) items.emplace_back(s, i);
+
+  std::vector<GraspRecord> records(items.size());
+  tbb::enumerable_thread_specific<DistanceWorkspace> workspaces;
+  std::atomic<std::size_t> done{0};
+  std::mutex progress_mutex;
+  tbb::parallel_for(std::size_t{0}, items.size(), [&](std::size_t k) {
+    records[k] = impl_->evaluate(items[k].first, items[k].second, workspaces.local());
+    const std::size_t finished = ++done;
+    if (progress) {
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      progress("grasps", finished, items.size());
+    }
+  });
+  std::sort(records.begin(), records.end());
+  return records;
+}
+
+}  // namespace icrkit::eval

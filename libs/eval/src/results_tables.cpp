@@ -1,0 +1,406 @@
+#include <icrkit/eval/results_tables.hpp>
+
+#include <icrkit/core/atomic_file.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <utility>
+
+namespace icrkit::eval {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// std::to_chars is locale-independent, so the tables do not change with the
+// user's LC_NUMERIC.
+std::string formatFixed(double value, int decimals) {
+  char buffer[512];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, decimals);
+  if (result.ec != std::errc()) return formatFixed(value, 0);
+  return std::string(buffer, result.ptr);
+}
+
+std::string formatShortest(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  return std::string(buffer, result.ptr);
+}
+
+const char* const kUnsetMarkdown = "–";  // en dash, as tables print "no value"
+
+std::string markdownValue(const std::optional<double>& value) {
+  return value ? formatFixed(*value, 1) : std::string(kUnsetMarkdown);
+}
+
+std::string markdownEscape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|') out += "\\|";
+    else if (c == '\n' || c == '\r') out += ' ';
+    else out += c;
+  }
+  return out;
+}
+
+std::string csvField(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string csvValue(const std::optional<double>& value) { return value ? formatShortest(*value) : std::string(); }
+
+Json optionalJson(const std::optional<double>& value) {
+  return value && std::isfinite(*value) ? Json(*value) : Json(nullptr);
+}
+
+bool fingersMatch(const GraspRecord& record, std::size_t fingers) { return fingers == 0 || record.fingers == fingers; }
+
+/// Row order: listed datasets first, then the rest of the records' datasets sorted.
+std::vector<std::string> datasetOrder(const std::vector<GraspRecord>& records, const std::vector<std::string>& listed) {
+  std::vector<std::string> order;
+  std::set<std::string> seen;
+  for (const auto& name : listed)
+    if (seen.insert(name).second) order.push_back(name);
+  std::set<std::string> rest;
+  for (const auto& record : records)
+    if (!seen.count(record.dataset)) rest.insert(record.dataset);
+  order.insert(order.end(), rest.begin(), rest.end());
+  return order;
+}
+
+/// Collects the per-region percents of one mesh type before taking medians.
+struct RegionPercents {
+  std::vector<double> intersection;
+  std::vector<double> false_positive;
+  std::size_t regions = 0;
+  std::size_t degenerate = 0;
+
+  void add(const MeshOutcome& mesh) {
+    for (const auto& region : mesh.regions) {
+      ++regions;
+      if (!region.intersection_percent || !region.false_positive_percent) ++degenerate;
+      if (region.intersection_percent) intersection.push_back(*region.intersection_percent);
+      if (region.false_positive_percent) false_positive.push_back(*region.false_positive_percent);
+    }
+  }
+
+  MeshMedians medians() const {
+    MeshMedians result;
+    result.intersection_percent = median(intersection);
+    result.false_positive_percent = median(false_positive);
+    result.regions = regions;
+    result.degenerate_regions = degenerate;
+    return result;
+  }
+};
+
+/// Mean of the set values among `values`, in order; unset when none is set.
+std::optional<double> meanOfSet(const std::vector<std::optional<double>>& values) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (const auto& value : values)
+    if (value) {
+      sum += *value;
+      ++count;
+    }
+  if (count == 0) return std::nullopt;
+  return sum / double(count);
+}
+
+MeshMedians averageOf(const std::vector<TableOneRow>& rows, MeshMedians TableOneRow::*mesh) {
+  std::vector<std::optional<double>> intersection, falsePositive;
+  MeshMedians result;
+  for (const auto& row : rows) {
+    intersection.push_back((row.*mesh).intersection_percent);
+    falsePositive.push_back((row.*mesh).false_positive_percent);
+    result.regions += (row.*mesh).regions;
+    result.degenerate_regions += (row.*mesh).degenerate_regions;
+  }
+  result.intersection_percent = meanOfSet(intersection);
+  result.false_positive_percent = meanOfSet(falsePositive);
+  return result;
+}
+
+PaperTableOneRow paperRow(const char* dataset, const char* sensor, const char* object, double fi, double ffp, double ri,
+                          double rfp) {
+  return PaperTableOneRow{dataset, sensor, object, fi, ffp, ri, rfp};
+}
+
+void addCounts(EligibilityCounts& counts, const GraspRecord& record) {
+  ++counts.grasps;
+  if (record.raw.eligible()) ++counts.raw_eligible;
+  if (record.filtered.eligible()) ++counts.filtered_eligible;
+  if (!record.filtered.preselection_passed) ++counts.filtered_preselection_failed;
+  if (record.raw.eligible() && record.filtered.eligible()) ++counts.both_eligible;
+  if (record.evaluated) ++counts.evaluated;
+}
+
+void addToGroup(EligibilityGroup& group, const GraspRecord& record) {
+  addCounts(group.by_fingers[record.fingers], record);
+  addCounts(group.all, record);
+}
+
+Json countsJson(const EligibilityCounts& counts) {
+  Json j;
+  j["grasps"] = counts.grasps;
+  j["raw_eligible"] = counts.raw_eligible;
+  j["raw_eligible_percent"] = optionalJson(counts.percent(counts.raw_eligible));
+  j["filtered_eligible"] = counts.filtered_eligible;
+  j["filtered_eligible_percent"] = optionalJson(counts.percent(counts.filtered_eligible));
+  j["filtered_preselection_failed"] = counts.filtered_preselection_failed;
+  j["filtered_preselection_failed_percent"] = optionalJson(counts.percent(counts.filtered_preselection_failed));
+  j["both_eligible"] = counts.both_eligible;
+  j["both_eligible_percent"] = optionalJson(counts.percent(counts.both_eligible));
+  j["evaluated"] = counts.evaluated;
+  return j;
+}
+
+Json groupJson(const EligibilityGroup& group) {
+  Json j;
+  j["dataset"] = group.dataset;
+  j["all"] = countsJson(group.all);
+  Json byFingers = Json::array();
+  for (const auto& [fingers, counts] : group.by_fingers) {
+    Json entry;
+    entry["fingers"] = fingers;
+    const Json countsPart = countsJson(counts);
+    for (const auto& item : countsPart.items()) entry[item.key()] = item.value();
+    byFingers.push_back(std::move(entry));
+  }
+  j["by_fingers"] = std::move(byFingers);
+  return j;
+}
+
+Json meshMediansJson(const MeshMedians& mesh) {
+  Json j;
+  j["median_intersection_percent"] = optionalJson(mesh.intersection_percent);
+  j["median_false_positive_percent"] = optionalJson(mesh.false_positive_percent);
+  j["regions"] = mesh.regions;
+  j["degenerate_regions"] = mesh.degenerate_regions;
+  return j;
+}
+
+Json paperRowJson(const std::optional<PaperTableOneRow>& paper) {
+  if (!paper) return nullptr;
+  Json j;
+  j["filtered"] = {{"median_intersection_percent", paper->filtered_intersection_percent},
+                   {"median_false_positive_percent", paper->filtered_false_positive_percent}};
+  j["raw"] = {{"median_intersection_percent", paper->raw_intersection_percent},
+              {"median_false_positive_percent", paper->raw_false_positive_percent}};
+  return j;
+}
+
+Json tableRowJson(const TableOneRow& row) {
+  Json j;
+  j["dataset"] = row.dataset;
+  j["evaluated_grasps"] = row.evaluated_grasps;
+  j["filtered"] = meshMediansJson(row.filtered);
+  j["raw"] = meshMediansJson(row.raw);
+  j["paper"] = paperRowJson(paperTableOneRow(row.dataset));
+  return j;
+}
+
+std::string regionCount(std::size_t filtered, std::size_t raw) {
+  // Both meshes have one region per finger of an evaluated grasp, so the two
+  // counts normally agree; show both only when they do not.
+  return filtered == raw ? std::to_string(filtered) : std::to_string(filtered) + " / " + std::to_string(raw);
+}
+
+std::string paperPair(const std::optional<PaperTableOneRow>& paper, bool filtered) {
+  if (!paper) return kUnsetMarkdown;
+  return filtered ? formatFixed(paper->filtered_intersection_percent, 1) + " / " +
+                        formatFixed(paper->filtered_false_positive_percent, 1)
+                  : formatFixed(paper->raw_intersection_percent, 1) + " / " +
+                        formatFixed(paper->raw_false_positive_percent, 1);
+}
+
+void markdownRow(std::ostringstream& out, const TableOneRow& row, bool bold) {
+  const auto paper = paperTableOneRow(row.dataset);
+  const std::string name = bold ? "**" + markdownEscape(row.dataset) + "**" : markdownEscape(row.dataset);
+  out << "| " << name << " | " << row.evaluated_grasps << " | " << markdownValue(row.filtered.intersection_percent)
+      << " | " << markdownValue(row.filtered.false_positive_percent) << " | "
+      << markdownValue(row.raw.intersection_percent) << " | " << markdownValue(row.raw.false_positive_percent)
+      << " | " << paperPair(paper, true) << " | " << paperPair(paper, false) << " | "
+      << regionCount(row.filtered.regions, row.raw.regions) << " | "
+      << regionCount(row.filtered.degenerate_regions, row.raw.degenerate_regions) << " |\n";
+}
+
+void csvRow(std::ostringstream& out, const TableOneRow& row) {
+  const auto paper = paperTableOneRow(row.dataset);
+  auto paperValue = [&](double PaperTableOneRow::*field) {
+    return paper ? formatShortest((*paper).*field) : std::string();
+  };
+  out << csvField(row.dataset) << ',' << row.evaluated_grasps << ',' << csvValue(row.filtered.intersection_percent)
+      << ',' << csvValue(row.filtered.false_positive_percent) << ',' << csvValue(row.raw.intersection_percent) << ','
+      << csvValue(row.raw.false_positive_percent) << ',' << row.filtered.regions << ','
+      << row.filtered.degenerate_regions << ',' << row.raw.regions << ',' << row.raw.degenerate_regions << ','
+      << paperValue(&PaperTableOneRow::filtered_intersection_percent) << ','
+      << paperValue(&PaperTableOneRow::filtered_false_positive_percent) << ','
+      << paperValue(&PaperTableOneRow::raw_intersection_percent) << ','
+      << paperValue(&PaperTableOneRow::raw_false_positive_percent) << '\n';
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  writeFileAtomically(path, [&](std::ostream& out) { out << text; });
+}
+
+}  // namespace
+
+std::optional<double> median(std::vector<double> values) {
+  // NaN would break the ordering; it has no place in a median of percents.
+  values.erase(std::remove_if(values.begin(), values.end(), [](double v) { return std::isnan(v); }), values.end());
+  if (values.empty()) return std::nullopt;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  if (n % 2 == 1) return values[n / 2];
+  return 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+TableOne computeTableOne(const std::vector<GraspRecord>& records, const TableOneOptions& options) {
+  TableOne table;
+  table.fingers = options.fingers;
+  for (const auto& dataset : datasetOrder(records, options.dataset_order)) {
+    TableOneRow row;
+    row.dataset = dataset;
+    RegionPercents filtered, raw;
+    for (const auto& record : records) {
+      if (record.dataset != dataset || !record.evaluated || !fingersMatch(record, options.fingers)) continue;
+      ++row.evaluated_grasps;
+      filtered.add(record.filtered);
+      raw.add(record.raw);
+    }
+    row.filtered = filtered.medians();
+    row.raw = raw.medians();
+    table.rows.push_back(std::move(row));
+  }
+  table.average.dataset = "Average";
+  for (const auto& row : table.rows) table.average.evaluated_grasps += row.evaluated_grasps;
+  table.average.filtered = averageOf(table.rows, &TableOneRow::filtered);
+  table.average.raw = averageOf(table.rows, &TableOneRow::raw);
+  return table;
+}
+
+std::optional<double> EligibilityCounts::percent(std::size_t count) const {
+  if (grasps == 0) return std::nullopt;
+  return 100.0 * double(count) / double(grasps);
+}
+
+EligibilitySummary computeEligibility(const std::vector<GraspRecord>& records, const TableOneOptions& options) {
+  EligibilitySummary summary;
+  summary.overall.dataset = "all";
+  for (const auto& dataset : datasetOrder(records, options.dataset_order)) {
+    EligibilityGroup group;
+    group.dataset = dataset;
+    for (const auto& record : records)
+      if (record.dataset == dataset) addToGroup(group, record);
+    summary.datasets.push_back(std::move(group));
+  }
+  for (const auto& record : records) addToGroup(summary.overall, record);
+  return summary;
+}
+
+PaperTableOne paperTableOne() {
+  PaperTableOne paper;
+  paper.rows = {
+      paperRow("cup_sr4000_A", "SR4000", "Cup", 56, 2.0, 14, 0.0),
+      paperRow("wooden_toy_1_sr4000_A", "SR4000", "Wooden Toy 1", 54, 20, 14, 0.0),
+      paperRow("wooden_toy_2_sr4000_A", "SR4000", "Wooden Toy 2", 49, 1.0, 4.0, 0.0),
+      paperRow("cup_kinect_B", "Kinect", "Cup", 62, 10, 17, 0.0),
+      paperRow("wooden_toy_1_kinect_B", "Kinect", "Wooden Toy 1", 70, 21, 17, 0.0),
+      paperRow("wooden_toy_2_kinect_B", "Kinect", "Wooden Toy 2", 50, 1.0, 12, 0.0),
+      paperRow("bottle_kinect_B", "Kinect", "Bottle", 59, 6.0, 14, 0.0),
+      paperRow("paper_cup_kinect_B", "Kinect", "Paper Cup", 58, 11, 18, 0.0),
+      paperRow("coffee_pot_kinect_B", "Kinect", "Coffee pot", 73, 9.0, 2.0, 0.0),
+  };
+  // As printed; the exact mean of the raw Int column is 12.4.
+  paper.average = paperRow("Average", "", "Average", 59, 9.0, 12, 0.0);
+  paper.filtered_eligible_percent = 98.3;
+  paper.raw_eligible_percent = 88.0;
+  return paper;
+}
+
+std::optional<PaperTableOneRow> paperTableOneRow(const std::string& dataset) {
+  const PaperTableOne paper = paperTableOne();
+  if (dataset == paper.average.dataset) return paper.average;
+  for (const auto& row : paper.rows)
+    if (row.dataset == dataset) return row;
+  return std::nullopt;
+}
+
+std::string tableOneMarkdown(const TableOne& table) {
+  std::ostringstream out;
+  out << "Table I: intersection (Int) and false-positive (FP) areas as a percentage of the ICR area on the "
+         "CAD mesh; medians over all regions of the evaluated grasps ("
+      << (table.fingers == 0 ? std::string("all finger counts") : std::to_string(table.fingers) + " fingers")
+      << "). Average = mean of the per-dataset medians. Degenerate regions (CAD region area 0) are left out of "
+         "the medians.\n\n";
+  out << "| Dataset | Grasps | Smooth Int [%] | Smooth FP [%] | Raw Int [%] | Raw FP [%] | Paper smooth Int / FP [%] "
+         "| Paper raw Int / FP [%] | Regions | Degenerate |\n";
+  out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& row : table.rows) markdownRow(out, row, false);
+  markdownRow(out, table.average, true);
+  return out.str();
+}
+
+std::string tableOneCsv(const TableOne& table) {
+  std::ostringstream out;
+  out << "dataset,evaluated_grasps,filtered_median_intersection_percent,filtered_median_false_positive_percent,"
+         "raw_median_intersection_percent,raw_median_false_positive_percent,filtered_regions,"
+         "filtered_degenerate_regions,raw_regions,raw_degenerate_regions,paper_filtered_intersection_percent,"
+         "paper_filtered_false_positive_percent,paper_raw_intersection_percent,paper_raw_false_positive_percent\n";
+  for (const auto& row : table.rows) csvRow(out, row);
+  csvRow(out, table.average);
+  return out.str();
+}
+
+std::string tableOneJson(const TableOne& table) {
+  Json j;
+  j["fingers"] = table.fingers == 0 ? Json(nullptr) : Json(table.fingers);
+  Json rows = Json::array();
+  for (const auto& row : table.rows) rows.push_back(tableRowJson(row));
+  j["rows"] = std::move(rows);
+  j["average"] = tableRowJson(table.average);
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+std::string eligibilityJson(const EligibilitySummary& summary) {
+  const PaperTableOne paper = paperTableOne();
+  Json j;
+  Json datasets = Json::array();
+  for (const auto& group : summary.datasets) datasets.push_back(groupJson(group));
+  j["datasets"] = std::move(datasets);
+  j["overall"] = groupJson(summary.overall);
+  j["paper"] = {{"filtered_eligible_percent", paper.filtered_eligible_percent},
+                {"raw_eligible_percent", paper.raw_eligible_percent}};
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+void writeTableOneMarkdown(const std::string& path, const TableOne& table) { writeText(path, tableOneMarkdown(table)); }
+void writeTableOneCsv(const std::string& path, const TableOne& table) { writeText(path, tableOneCsv(table)); }
+void writeTableOneJson(const std::string& path, const TableOne& table) { writeText(path, tableOneJson(table)); }
+void writeEligibilityJson(const std::string& path, const EligibilitySummary& summary) {
+  writeText(path, eligibilityJson(summary));
+}
+
+void writeResultsTables(const std::string& directory, const std::vector<GraspRecord>& records,
+                        const TableOneOptions& options) {
+  const std::filesystem::path dir(directory);
+  const TableOne table = computeTableOne(records, options);
+  writeTableOneMarkdown((dir / "table1.md").string(), table);
+  writeTableOneCsv((dir / "table1.csv").string(), table);
+  writeTableOneJson((dir / "table1.json").string(), table);
+  writeEligibilityJson((dir / "eligibility.json").string(), computeEligibility(records, options));
+}
+
+}  // namespace icrkit::eval
