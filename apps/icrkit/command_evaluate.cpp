@@ -61,18 +61,20 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   const double read_ms = context.elapsedMs() - read_start;
 
   const double prepare_start = context.elapsedMs();
-  const eval::DatasetExperiment experiment({name, &cad, &raw, &filtered}, config);
+  const auto experiment = namingMeshFiles(
+      [&] { return std::make_unique<eval::DatasetExperiment>(eval::DatasetMeshes{name, &cad, &raw, &filtered}, config); },
+      {{"CAD mesh", o.cad}, {"raw mesh", o.raw}, {"filtered mesh", o.filtered}});
   const double prepare_ms = context.elapsedMs() - prepare_start;
   // The nominal work list, as in `icrkit paper`: shards of both agree.
   const auto [begin, end] = shard.range(config.finger_counts.size() * config.grasps_per_set);
-  context.note("evaluating " + std::to_string(end - begin) + " of " + std::to_string(experiment.itemCount()) +
+  context.note("evaluating " + std::to_string(end - begin) + " of " + std::to_string(experiment->itemCount()) +
                " grasps on " + name);
   const double run_start = context.elapsedMs();
-  std::vector<eval::GraspRecord> records = experiment.run(begin, end, context.progress());
+  std::vector<eval::GraspRecord> records = experiment->run(begin, end, context.progress());
   const double run_ms = context.elapsedMs() - run_start;
 
   nlohmann::json sampled;
-  for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment.sampledGrasps(f);
+  for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment->sampledGrasps(f);
   nlohmann::json run{{"command", "evaluate"},
                      {"config", experimentConfigJson(config)},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
@@ -84,9 +86,9 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
                         {"cad_vertices", cad.vertexCount()},
                         {"raw_vertices", raw.vertexCount()},
                         {"filtered_vertices", filtered.vertexCount()},
-                        {"lambda_m", experiment.cadLambda()},
+                        {"lambda_m", experiment->cadLambda()},
                         {"grasps_sampled", sampled},
-                        {"items", experiment.itemCount()}}}}};
+                        {"items", experiment->itemCount()}}}}};
 
   eval::ExperimentOutputs outputs;
   outputs.dataset_order = {name};

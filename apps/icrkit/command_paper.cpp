@@ -112,20 +112,22 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
 
     start = context.elapsedMs();
     const TriangleMesh cad = io::readTriangleMesh((data_dir / "object.ply").string());
-    const eval::DatasetExperiment experiment({name, &cad, &raw, &filtered}, config);
+    const auto experiment = namingMeshFiles(
+        [&] { return std::make_unique<eval::DatasetExperiment>(eval::DatasetMeshes{name, &cad, &raw, &filtered}, config); },
+        {{"CAD mesh", (data_dir / "object.ply").string()}, {"raw mesh", (rec_dir / "raw.ply").string()}, {"filtered mesh", (rec_dir / "filtered.ply").string()}});
     const std::size_t local_begin = std::max(begin, first) - first, local_end = std::min(end, last) - first;
     context.note(prefix + "evaluating grasps " + std::to_string(local_begin) + ".." + std::to_string(local_end));
-    auto part = experiment.run(local_begin, local_end, staged(context.progress(), prefix));
+    auto part = experiment->run(local_begin, local_end, staged(context.progress(), prefix));
     times["evaluate"] = context.elapsedMs() - start;
     records.insert(records.end(), part.begin(), part.end());
 
     nlohmann::json sampled;
-    for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment.sampledGrasps(f);
+    for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment->sampledGrasps(f);
     datasets.push_back({{"name", name},
                         {"cad_vertices", cad.vertexCount()},
                         {"raw_vertices", raw.vertexCount()},
                         {"filtered_vertices", filtered.vertexCount()},
-                        {"lambda_m", experiment.cadLambda()},
+                        {"lambda_m", experiment->cadLambda()},
                         {"grasps_sampled", sampled}});
     stage_times.push_back({{"dataset", name}, {"time_ms", times}});
   }

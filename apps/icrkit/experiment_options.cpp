@@ -102,4 +102,16 @@ nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {
           {"wrench_frame", "CAD mesh centroid, lambda = largest CAD vertex distance from it"}};
 }
 
+std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
+    const std::function<std::unique_ptr<eval::DatasetExperiment>()>& make,
+    const std::map<std::string, std::string>& files) {
+  try {
+    return make();
+  } catch (const InputError& error) {
+    const auto it = files.find(error.source());
+    if (it == files.end()) throw;
+    throw InputError(it->second, error.location(), error.detail() + " (" + it->first + ")");
+  }
+}
+
 }  // namespace icrkit::app

@@ -8,6 +8,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <functional>
+#include <map>
+#include <memory>
 #include <string>
 
 namespace icrkit::app {
@@ -33,5 +36,11 @@ struct ExperimentOptions {
 };
 
 nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config);
+
+/// Runs `make` and renames an InputError about "CAD mesh", "raw mesh" or
+/// "filtered mesh" to the file it came from.
+std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
+    const std::function<std::unique_ptr<eval::DatasetExperiment>()>& make,
+    const std::map<std::string, std::string>& files);
 
 }  // namespace icrkit::app

@@ -22,10 +22,16 @@ namespace {
 constexpr const char* kSource = "experiment";
 
 void requireNormals(const TriangleMesh* mesh, const std::string& what) {
-  if (!mesh) throw InputError(kSource, what, "no mesh given");
-  if (mesh->faces.empty()) throw InputError(kSource, what, "the mesh has no faces");
+  if (!mesh) throw InputError(what, "", "no mesh given");
+  if (mesh->faces.empty()) throw InputError(what, "", "the mesh has no faces");
   if (mesh->vertices.normals.size() != mesh->vertexCount())
-    throw InputError(kSource, what, "the mesh needs one normal per vertex");
+    throw InputError(what, "", "the mesh needs one normal per vertex");
+  for (std::size_t v = 0; v < mesh->vertexCount(); ++v) {
+    const double length = mesh->vertices.normals[v].norm();
+    if (!(std::abs(length - 1.0) < 1e-3))
+      throw InputError(what, "vertex " + std::to_string(v),
+                       "expected a unit vertex normal, got one of length " + std::to_string(length));
+  }
 }
 
 std::string fingerName(std::size_t finger) { return "contact " + std::to_string(finger); }

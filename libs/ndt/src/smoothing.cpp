@@ -118,6 +118,11 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
     cloud.positions = std::move(out.positions);
     normals = std::move(out.normals);
   }
+  // A window of fewer than 3 points has no plane: such a point keeps the
+  // normal it came with (a fused cloud's, say) rather than none at all.
+  if (cloud.hasNormals())
+    for (std::size_t i = 0; i < n; ++i)
+      if (normals[i].squaredNorm() == 0.0) normals[i] = cloud.normals[i];
   cloud.normals = std::move(normals);
   orientNormals(cloud, params.viewpoint);
 

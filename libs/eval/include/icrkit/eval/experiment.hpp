@@ -76,7 +76,8 @@ struct DatasetMeshes {
 class DatasetExperiment {
 public:
   /// Prepares the meshes once (adjacency, Embree scenes, kd-trees). Throws
-  /// InputError for a mesh without faces or normals, or a bad config.
+  /// InputError for a mesh without faces or unit normals (source "CAD mesh",
+  /// "raw mesh" or "filtered mesh", location the vertex), or a bad config.
   DatasetExperiment(const DatasetMeshes& meshes, const ExperimentConfig& config);
   ~DatasetExperiment();
   DatasetExperiment(const DatasetExperiment&) = delete;

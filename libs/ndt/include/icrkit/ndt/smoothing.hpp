@@ -69,7 +69,8 @@ struct SmoothingSummary {
 /// Smooths `cloud` in place and adds the per-point attributes `cardinality`
 /// (int), `flatness` (float), `displacement` (float, metres, total over the
 /// passes), `excluded` (uchar, when preselecting) and replaces the normals
-/// by the v3 estimates of the last pass. Throws InputError for an empty
+/// by the v3 estimates of the last pass (a point whose window holds fewer
+/// than 3 points keeps its input normal, or gets none when the cloud had none). Throws InputError for an empty
 /// cloud, a non-finite coordinate (naming the point), r <= 0 or passes < 1.
 SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params = {},
                                   const ProgressCallback& progress = {});
