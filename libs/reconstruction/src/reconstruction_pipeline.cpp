@@ -226,6 +226,13 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     const auto start = Clock::now();
     report(progress, "normals", 0, 1);
     ndt::NormalEstimationParameters normals = params.normals;
+    // Like the smoothing window: a multiple of one scan's spacing. The fused
+    // cloud's own spacing is many times finer (every view adds points) while
+    // its noise layer is as thick as one scan's noise, so a window scaled to
+    // it sees noise, not the surface (raw normals 40-45 deg off the CAD
+    // normals on the Kinect datasets).
+    if (!(normals.radius > 0) && result.scan_spacing_m > 0)
+      normals.radius = normals.radius_factor * result.scan_spacing_m;
     normals.viewpoints = viewpoints;
     result.normals = ndt::estimateNormals(result.cloud, normals);
     times.normals_ms = msSince(start);

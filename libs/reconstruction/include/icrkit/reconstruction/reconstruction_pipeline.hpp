@@ -60,7 +60,9 @@ struct ReconstructionParameters {
 
   /// Fusion; its `bounds` are replaced by the crop box.
   OctreeFusionParameters fusion;
-  /// Normals of the fused cloud, each facing its own view's sensor.
+  /// Normals of the fused cloud, each facing its own view's sensor; with
+  /// radius <= 0 the window is radius_factor (3) times the spacing of a
+  /// single scan, for the reason given at `smoothing`.
   ndt::NormalEstimationParameters normals;
   /// Smoothing: with radius <= 0 the window is radius_factor times the
   /// spacing of a single scan (median nearest-neighbour distance of the
