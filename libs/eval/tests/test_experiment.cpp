@@ -5,6 +5,7 @@
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
 #include <icrkit/eval/experiment.hpp>
+#include <icrkit/eval/grasp_regions.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -178,6 +179,34 @@ TEST(Experiment, TheRealBunnyMeshAgainstItselfAndANoisyCopy) {
     }
   }
   EXPECT_GT(evaluated, 0u);
+}
+
+}  // namespace
+}  // namespace icrkit::eval
+
+namespace icrkit::eval {
+namespace {
+
+TEST(Experiment, RegrownRegionsMatchTheRecord) {
+  const TriangleMesh cad = ellipsoid(4);
+  const TriangleMesh raw = noisyCopy(cad, 3e-4, 5);
+  const ExperimentConfig config = smallConfig(3);
+  const DatasetExperiment experiment({"noisy", &cad, &raw, &cad}, config);
+  std::size_t checked = 0;
+  for (const GraspRecord& r : experiment.run(0, experiment.itemCount())) {
+    const GraspRegions regions = regrowRegions({"noisy", &cad, &raw, &cad}, config, r);
+    if (!r.evaluated) {
+      EXPECT_TRUE(regions.cad.empty());
+      continue;
+    }
+    ASSERT_EQ(regions.raw.size(), r.raw.regions.size());
+    for (std::size_t n = 0; n < regions.raw.size(); ++n) {
+      EXPECT_EQ(regions.raw[n].size(), r.raw.regions[n].vertices);
+      EXPECT_EQ(regions.filtered[n].size(), r.filtered.regions[n].vertices);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 0u);
 }
 
 }  // namespace
