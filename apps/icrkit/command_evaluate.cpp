@@ -56,9 +56,20 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
 
   const double read_start = context.elapsedMs();
   const TriangleMesh cad = readMeshWithNormals(o.cad, o.compute_normals, context);
-  const TriangleMesh raw = readMeshWithNormals(o.raw, o.compute_normals, context);
-  const TriangleMesh filtered = readMeshWithNormals(o.filtered, o.compute_normals, context);
+  TriangleMesh raw = readMeshWithNormals(o.raw, o.compute_normals, context);
+  TriangleMesh filtered = readMeshWithNormals(o.filtered, o.compute_normals, context);
   const double read_ms = context.elapsedMs() - read_start;
+  nlohmann::json alignment = nlohmann::json::array();
+  const double align_start = context.elapsedMs();
+  for (auto [mesh, path] : {std::pair<TriangleMesh*, const std::string*>{&raw, &o.raw}, {&filtered, &o.filtered}}) {
+    try {
+      const nlohmann::json a = alignIfAsked(o.experiment, *mesh, cad, *path);
+      if (!a.is_null()) alignment.push_back(a);
+    } catch (const InputError& error) {
+      throw InputError(*path, "", std::string("--align icp: ") + error.detail());
+    }
+  }
+  const double align_ms = context.elapsedMs() - align_start;
 
   const double prepare_start = context.elapsedMs();
   const auto experiment = namingMeshFiles(
@@ -78,8 +89,10 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   nlohmann::json run{{"command", "evaluate"},
                      {"config", experimentConfigJson(config)},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
+                     {"align", o.experiment.align},
                      {"datasets",
                       {{{"name", name},
+                        {"alignment", alignment},
                         {"cad", o.cad},
                         {"raw", o.raw},
                         {"filtered", o.filtered},
@@ -109,6 +122,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
           {"files", files},
           {"time_ms",
            {{"read", read_ms},
+            {"align", align_ms},
             {"prepare", prepare_ms},
             {"grasps", run_ms},
             {"write", context.elapsedMs() - write_start},

@@ -112,6 +112,15 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
 
     start = context.elapsedMs();
     const TriangleMesh cad = io::readTriangleMesh((data_dir / "object.ply").string());
+    nlohmann::json alignment = nlohmann::json::array();
+    for (auto [mesh, label] : {std::pair<TriangleMesh*, const char*>{&raw, "raw.ply"}, {&filtered, "filtered.ply"}}) {
+      try {
+        const nlohmann::json a = alignIfAsked(o.experiment, *mesh, cad, label);
+        if (!a.is_null()) alignment.push_back(a);
+      } catch (const InputError& error) {
+        throw InputError((rec_dir / label).string(), "", std::string("--align icp: ") + error.detail());
+      }
+    }
     const auto experiment = namingMeshFiles(
         [&] { return std::make_unique<eval::DatasetExperiment>(eval::DatasetMeshes{name, &cad, &raw, &filtered}, config); },
         {{"CAD mesh", (data_dir / "object.ply").string()}, {"raw mesh", (rec_dir / "raw.ply").string()}, {"filtered mesh", (rec_dir / "filtered.ply").string()}});
@@ -124,6 +133,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     nlohmann::json sampled;
     for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment->sampledGrasps(f);
     datasets.push_back({{"name", name},
+                        {"alignment", alignment},
                         {"cad_vertices", cad.vertexCount()},
                         {"raw_vertices", raw.vertexCount()},
                         {"filtered_vertices", filtered.vertexCount()},
@@ -140,6 +150,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
                      {"config", experimentConfigJson(config)},
                      {"views", o.views},
                      {"reconstruction", "icrkit reconstruct defaults"},
+                     {"align", o.experiment.align},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"datasets", names}};
   eval::ExperimentOutputs outputs;

@@ -4,6 +4,7 @@
 #include "contact_model_options.hpp"
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/eval/rigid_alignment.hpp>
 
 #include <cmath>
 
@@ -31,6 +32,10 @@ void ExperimentOptions::addTo(CLI::App& command) {
       ->capture_default_str();
   command.add_flag("--no-preselection", no_preselection,
                    "Ignore the filtered mesh's `excluded` flags (smoothing alone; a diagnostic, not the paper's method)");
+  command.add_option("--align", align,
+                     "Rigid alignment of the raw and filtered meshes to the CAD surface first: none (meshes already in "
+                     "the CAD frame, as simulated ones are) or icp (point-to-plane ICP; the paper aligned by hand)")
+      ->capture_default_str();
   command.add_option("--shard", shard, "Run shard i of N (0-based) of the work; combine with `icrkit merge`")
       ->capture_default_str();
 }
@@ -78,6 +83,7 @@ eval::ExperimentConfig ExperimentOptions::config() const {
     throw InputError("--neighbourhood-radius", "", "expected metres >= 0 (0: automatic)");
   config.mapping.neighbourhood_radius = neighbourhood_radius;
   config.preselection = !no_preselection;
+  if (align != "none" && align != "icp") throw InputError("--align", "", "expected none or icp, got '" + align + "'");
   try {
     config.validate();
   } catch (const InputError& error) {
@@ -112,6 +118,22 @@ std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
     if (it == files.end()) throw;
     throw InputError(it->second, error.location(), error.detail() + " (" + it->first + ")");
   }
+}
+
+nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh, const TriangleMesh& cad,
+                            const std::string& name) {
+  if (options.align != "icp") return nullptr;
+  const eval::AlignmentResult a = eval::alignToCad(mesh, cad);
+  eval::transformMesh(mesh, a.transform);
+  const Eigen::AngleAxisd rotation(a.transform.linear());
+  return {{"mesh", name},
+          {"method", "point-to-plane ICP"},
+          {"translation_m", {a.transform.translation().x(), a.transform.translation().y(), a.transform.translation().z()}},
+          {"rotation_rad", rotation.angle()},
+          {"iterations", a.iterations},
+          {"converged", a.converged},
+          {"rms_before_m", a.rms_before_m},
+          {"rms_after_m", a.rms_after_m}};
 }
 
 }  // namespace icrkit::app

@@ -3,6 +3,7 @@
 // parameters (Section IV of the paper) and the shard, reported identically
 // in both commands' run.json.
 
+#include <icrkit/core/triangle_mesh.hpp>
 #include <icrkit/eval/experiment.hpp>
 
 #include <CLI/CLI.hpp>
@@ -28,6 +29,7 @@ struct ExperimentOptions {
   double neighbourhood_radius = 0.0;
   std::string shard = "0/1";
   bool no_preselection = false;
+  std::string align = "none";
 
   void addTo(CLI::App& command);
   /// Validated (InputError naming the option).
@@ -36,6 +38,11 @@ struct ExperimentOptions {
 };
 
 nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config);
+
+/// With --align icp: moves `mesh` onto the CAD surface (point-to-plane ICP)
+/// and returns what was done; with --align none: nothing (null).
+nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh, const TriangleMesh& cad,
+                            const std::string& name);
 
 /// Runs `make` and renames an InputError about "CAD mesh", "raw mesh" or
 /// "filtered mesh" to the file it came from.
