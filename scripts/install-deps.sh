@@ -18,6 +18,20 @@ packages=(
   mrpt-common
 )
 
+# Optional tools, keyed by the command they provide (a Node.js install from
+# elsewhere already brings npm; Debian's package would conflict with it).
+# Without them icrkit still builds and passes its tests:
+#   npm       scripts/vendor-threejs.sh fetches three.js for the 3D viewer of
+#             `icrkit report` (without it the report says the viewer is unavailable)
+#   chromium  the headless-browser checks of tests/cli_report.sh (skipped
+#             without it); set ICRKIT_INSTALL_BROWSER=0 to leave it out
+optional=()
+command -v npm >/dev/null 2>&1 || optional+=(npm)
+if [ "${ICRKIT_INSTALL_BROWSER:-1}" != "0" ] && ! command -v chromium >/dev/null 2>&1 &&
+   ! command -v chromium-browser >/dev/null 2>&1; then
+  optional+=(chromium)
+fi
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
@@ -25,17 +39,29 @@ for p in "${packages[@]}"; do
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
+if [ ${#missing[@]} -eq 0 ] && [ ${#optional[@]} -eq 0 ]; then
   exit 0
 fi
 
 if [ "$(id -u)" -ne 0 ]; then
-  echo "icrkit: missing Debian packages: ${missing[*]}" >&2
-  echo "icrkit: run this script as root (or install them with apt-get) and retry" >&2
-  exit 2
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "icrkit: missing Debian packages: ${missing[*]}" >&2
+    echo "icrkit: run this script as root (or install them with apt-get) and retry" >&2
+    exit 2
+  fi
+  echo "icrkit: note: optional packages not installed (not root): ${optional[*]}" >&2
+  exit 0
 fi
 
-echo "icrkit: installing ${#missing[@]} Debian package(s): ${missing[*]}" >&2
 export DEBIAN_FRONTEND=noninteractive
 apt-get update -qq
-apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "icrkit: installing ${#missing[@]} Debian package(s): ${missing[*]}" >&2
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+fi
+# One at a time, and never fatal: a missing optional tool only disables a feature or a test.
+for p in "${optional[@]}"; do
+  echo "icrkit: installing optional Debian package $p" >&2
+  apt-get install -y -qq --no-install-recommends "$p" >&2 ||
+    echo "icrkit: note: could not install $p; see the comment above 'optional=' in $0 for what that disables" >&2
+done

@@ -108,7 +108,12 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   outputs.finger_counts = config.finger_counts;
   outputs.run_json = run.dump();
   const double write_start = context.elapsedMs();
-  const auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  const double render_start = context.elapsedMs();
+  for (const std::string& f :
+       writeGraspRenders(o.output, o.experiment, eval::DatasetMeshes{name, &cad, &raw, &filtered}, config, records))
+    files.push_back(f);
+  const double render_ms = context.elapsedMs() - render_start;
 
   const eval::TableOne table = eval::computeTableOne(records);
   const eval::EligibilitySummary eligibility = eval::computeEligibility(records);
@@ -125,7 +130,8 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
             {"align", align_ms},
             {"prepare", prepare_ms},
             {"grasps", run_ms},
-            {"write", context.elapsedMs() - write_start},
+            {"write", context.elapsedMs() - write_start - render_ms},
+            {"render", render_ms},
             {"total", context.elapsedMs()}}}};
 }
 
@@ -192,7 +198,19 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
   for (const auto& dataset : first.at("datasets")) outputs.dataset_order.push_back(dataset.at("name"));
   for (const auto& f : first.at("config").at("finger_counts")) outputs.finger_counts.push_back(f);
   outputs.run_json = run.dump();
-  const auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  // Each shard rendered grasps of its own block; the merged folder keeps them all.
+  for (const std::string& input : o.inputs) {
+    const fs::path from = fs::path(input) / "renders";
+    if (!fs::is_directory(from)) continue;
+    fs::create_directories(fs::path(o.output) / "renders");
+    for (const auto& entry : fs::directory_iterator(from)) {
+      if (entry.path().extension() != ".png") continue;
+      const fs::path to = fs::path(o.output) / "renders" / entry.path().filename();
+      fs::copy_file(entry.path(), to, fs::copy_options::overwrite_existing);
+      files.push_back(to.string());
+    }
+  }
   context.note("merged " + std::to_string(o.inputs.size()) + " shards, " + std::to_string(records.size()) + " grasps");
   return {{"output", o.output}, {"shards", o.inputs.size()}, {"grasps", records.size()}, {"files", files},
           {"time_ms", {{"total", context.elapsedMs()}}}};

@@ -74,6 +74,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   nlohmann::json datasets = nlohmann::json::array();
   nlohmann::json stage_times = nlohmann::json::array();
   std::vector<std::string> order;
+  std::vector<std::string> renders;
   for (std::size_t d = 0; d < specs.size(); ++d) {
     const std::string name = sim::datasetName(specs[d]);
     order.push_back(name);
@@ -128,6 +129,10 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     context.note(prefix + "evaluating grasps " + std::to_string(local_begin) + ".." + std::to_string(local_end));
     auto part = experiment->run(local_begin, local_end, staged(context.progress(), prefix));
     times["evaluate"] = context.elapsedMs() - start;
+    start = context.elapsedMs();
+    for (const std::string& f : writeGraspRenders(o.output, o.experiment, {name, &cad, &raw, &filtered}, config, part))
+      renders.push_back(f);
+    times["render"] = context.elapsedMs() - start;
     records.insert(records.end(), part.begin(), part.end());
 
     nlohmann::json sampled;
@@ -157,7 +162,8 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   outputs.dataset_order = order;
   outputs.finger_counts = config.finger_counts;
   outputs.run_json = run.dump();
-  const auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  files.insert(files.end(), renders.begin(), renders.end());
 
   const eval::TableOne table = eval::computeTableOne(records, {order, 0});
   return {{"output", o.output},

@@ -26,5 +26,7 @@ void addCalibrateRangeCommand(CLI::App& app, CommandRunner& runner);
 void addEvaluateCommand(CLI::App& app, CommandRunner& runner);
 void addMergeCommand(CLI::App& app, CommandRunner& runner);
 void addPaperCommand(CLI::App& app, CommandRunner& runner);
+void addRenderCommand(CLI::App& app, CommandRunner& runner);
+void addReportCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

@@ -4,7 +4,12 @@
 #include "contact_model_options.hpp"
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/eval/grasp_regions.hpp>
+#include <icrkit/eval/grasp_render.hpp>
 #include <icrkit/eval/rigid_alignment.hpp>
+
+#include <filesystem>
+#include <tuple>
 
 #include <cmath>
 
@@ -35,6 +40,11 @@ void ExperimentOptions::addTo(CLI::App& command) {
   command.add_option("--align", align,
                      "Rigid alignment of the raw and filtered meshes to the CAD surface first: none (meshes already in "
                      "the CAD frame, as simulated ones are) or icp (point-to-plane ICP; the paper aligned by hand)")
+      ->capture_default_str();
+  command.add_option("--renders", renders,
+                     "Fig. 6 renders (CAD vs filtered, CAD vs raw) of this many evaluated grasps per dataset, in "
+                     "DIR/renders/ (0: none)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   command.add_option("--shard", shard, "Run shard i of N (0-based) of the work; combine with `icrkit merge`")
       ->capture_default_str();
@@ -134,6 +144,32 @@ nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh
           {"converged", a.converged},
           {"rms_before_m", a.rms_before_m},
           {"rms_after_m", a.rms_after_m}};
+}
+
+std::vector<std::string> writeGraspRenders(const std::string& directory, const ExperimentOptions& options,
+                                           const eval::DatasetMeshes& meshes, const eval::ExperimentConfig& config,
+                                           const std::vector<eval::GraspRecord>& records) {
+  std::vector<std::string> files;
+  int left = options.renders;
+  for (const eval::GraspRecord& record : records) {
+    if (left <= 0) break;
+    if (!record.evaluated || record.dataset != meshes.name) continue;
+    --left;
+    const eval::GraspRegions regions = eval::regrowRegions(meshes, config, record);
+    const std::filesystem::path dir = std::filesystem::path(directory) / "renders";
+    std::filesystem::create_directories(dir);
+    const std::string stem =
+        record.dataset + "_" + std::to_string(record.fingers) + "fingers_grasp" + std::to_string(record.index);
+    for (const auto& [label, scan, scan_regions, contacts] :
+         {std::tuple{std::string("filtered"), meshes.filtered, &regions.filtered, &record.filtered.contacts},
+          std::tuple{std::string("raw"), meshes.raw, &regions.raw, &record.raw.contacts}}) {
+      const eval::RgbImage image = eval::renderGraspComparison(*meshes.cad, regions.cad, record.cad_contacts, *scan,
+                                                               *scan_regions, *contacts, label);
+      files.push_back((dir / (stem + "_" + label + ".png")).string());
+      eval::writePng(files.back(), image);
+    }
+  }
+  return files;
 }
 
 }  // namespace icrkit::app

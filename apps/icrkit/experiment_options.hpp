@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace icrkit::app {
 
@@ -30,6 +31,7 @@ struct ExperimentOptions {
   std::string shard = "0/1";
   bool no_preselection = false;
   std::string align = "none";
+  int renders = 1;
 
   void addTo(CLI::App& command);
   /// Validated (InputError naming the option).
@@ -38,6 +40,12 @@ struct ExperimentOptions {
 };
 
 nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config);
+
+/// Fig. 6 renders (CAD vs filtered, CAD vs raw) of the first `options.renders`
+/// evaluated records of `meshes`, into DIR/renders/; returns the files.
+std::vector<std::string> writeGraspRenders(const std::string& directory, const ExperimentOptions& options,
+                                           const eval::DatasetMeshes& meshes, const eval::ExperimentConfig& config,
+                                           const std::vector<eval::GraspRecord>& records);
 
 /// With --align icp: moves `mesh` onto the CAD surface (point-to-plane ICP)
 /// and returns what was done; with --align none: nothing (null).

@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
   addEvaluateCommand(app, runner);
   addMergeCommand(app, runner);
   addPaperCommand(app, runner);
+  addRenderCommand(app, runner);
+  addReportCommand(app, runner);
 
   try {
     app.parse(argc, argv);
