@@ -38,7 +38,7 @@ write('$work/filtered.ply', 0.0, 97)
 args=(--cad "$work/sim/object.ply" --raw "$work/raw.ply" --filtered "$work/filtered.ply" --name toy --grasps 4)
 expect_exit 0 "$icrkit" evaluate "${args[@]}" -o "$work/full" --json
 py "import json; json.load(open('$work/out'))" || fail "evaluate --json did not print one JSON object"
-for f in table1.md table1.csv table1.json eligibility.json grasps.jsonl run.json fig8_4fingers.svg fig8_4fingers.png \
+for f in table1.md table1.csv table1.json table1.svg table1.png eligibility.json grasps.jsonl run.json fig8_4fingers.svg fig8_4fingers.png \
          fig8_5fingers.svg fig8_5fingers.png fig8_4fingers.json; do
   [ -s "$work/full/$f" ] || fail "evaluate did not write $f"
 done
@@ -59,7 +59,7 @@ for i in 0 1 2; do
   expect_exit 0 "$icrkit" evaluate "${args[@]}" --shard "$i/3" -o "$work/shard$i" --quiet
 done
 expect_exit 0 "$icrkit" merge "$work/shard0" "$work/shard1" "$work/shard2" -o "$work/merged" --quiet
-for f in table1.md table1.csv table1.json eligibility.json grasps.jsonl fig8_4fingers.svg fig8_4fingers.png \
+for f in table1.md table1.csv table1.json table1.svg table1.png eligibility.json grasps.jsonl fig8_4fingers.svg fig8_4fingers.png \
          fig8_4fingers.json fig8_5fingers.svg fig8_5fingers.png fig8_5fingers.json; do
   cmp -s "$work/full/$f" "$work/merged/$f" || fail "merged shards differ from the unsharded run in $f"
 done

@@ -4,6 +4,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/eval/quality_histogram.hpp>
 #include <icrkit/eval/results_tables.hpp>
+#include <icrkit/eval/table_one_plot.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -29,6 +30,9 @@ std::vector<std::string> writeExperimentOutputs(const std::string& directory, st
   table_options.dataset_order = outputs.dataset_order;
   writeResultsTables(directory, records, table_options);
   for (const char* name : {"table1.md", "table1.csv", "table1.json", "eligibility.json"}) path(name);
+  const TableOne table = computeTableOne(records, table_options);
+  writeTableOneSvg(path("table1.svg"), table);
+  writeTableOnePng(path("table1.png"), table);
   for (const std::size_t fingers : outputs.finger_counts) {
     const QualityHistogram histogram = cumulativeQualityHistogram(records, fingers);
     const std::string stem = "fig8_" + std::to_string(fingers) + "fingers";

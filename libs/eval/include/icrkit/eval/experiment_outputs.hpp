@@ -2,7 +2,7 @@
 /// \file
 /// The files of an experiment run directory, all computed from the grasp
 /// records (so a merged set of shards gives the same files as one run):
-/// grasps.jsonl, table1.{md,csv,json}, eligibility.json,
+/// grasps.jsonl, table1.{md,csv,json,svg,png}, eligibility.json,
 /// fig8_<N>fingers.{svg,png,json} for each finger count, run.json.
 
 #include <icrkit/eval/experiment_records.hpp>
