@@ -83,6 +83,8 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   const double run_start = context.elapsedMs();
   std::vector<eval::GraspRecord> records = experiment->run(begin, end, context.progress());
   const double run_ms = context.elapsedMs() - run_start;
+  const std::string warning = frameWarning(records, name);
+  if (!warning.empty()) context.note(warning);
 
   nlohmann::json sampled;
   for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment->sampledGrasps(f);
@@ -120,6 +122,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   nlohmann::json summary = nlohmann::json::parse(eval::tableOneJson(table));
   return {{"output", o.output},
           {"dataset", name},
+          {"warnings", warning.empty() ? nlohmann::json::array() : nlohmann::json::array({warning})},
           {"grasps", records.size()},
           {"shard", {{"index", shard.index}, {"count", shard.count}}},
           {"table1", summary},

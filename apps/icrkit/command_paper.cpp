@@ -75,6 +75,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   nlohmann::json stage_times = nlohmann::json::array();
   std::vector<std::string> order;
   std::vector<std::string> renders;
+  std::vector<std::string> warnings;
   for (std::size_t d = 0; d < specs.size(); ++d) {
     const std::string name = sim::datasetName(specs[d]);
     order.push_back(name);
@@ -129,6 +130,11 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     context.note(prefix + "evaluating grasps " + std::to_string(local_begin) + ".." + std::to_string(local_end));
     auto part = experiment->run(local_begin, local_end, staged(context.progress(), prefix));
     times["evaluate"] = context.elapsedMs() - start;
+    const std::string warning = frameWarning(part, name);
+    if (!warning.empty()) {
+      context.note(warning);
+      warnings.push_back(warning);
+    }
     start = context.elapsedMs();
     for (const std::string& f : writeGraspRenders(o.output, o.experiment, {name, &cad, &raw, &filtered}, config, part))
       renders.push_back(f);
@@ -167,6 +173,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
 
   const eval::TableOne table = eval::computeTableOne(records, {order, 0});
   return {{"output", o.output},
+          {"warnings", warnings},
           {"datasets", datasets},
           {"grasps", records.size()},
           {"shard", {{"index", shard.index}, {"count", shard.count}}},

@@ -172,4 +172,16 @@ std::vector<std::string> writeGraspRenders(const std::string& directory, const E
   return files;
 }
 
+std::string frameWarning(const std::vector<eval::GraspRecord>& records, const std::string& dataset) {
+  std::size_t unreachable = 0;
+  for (const eval::GraspRecord& r : records)
+    if (r.raw.contacts.empty() && r.filtered.contacts.empty()) ++unreachable;
+  // Unscanned undersides leave a quarter or so of the grasps without surface;
+  // far more means the meshes do not lie on each other.
+  if (records.empty() || 2 * unreachable <= records.size()) return {};
+  return "icrkit: warning: " + dataset + ": " + std::to_string(unreachable) + " of " + std::to_string(records.size()) +
+         " grasps found no reconstructed surface within --max-line-distance of a contact on either mesh; are the "
+         "meshes in the CAD mesh's frame and units? (--align icp aligns them)";
+}
+
 }  // namespace icrkit::app

@@ -47,6 +47,11 @@ std::vector<std::string> writeGraspRenders(const std::string& directory, const E
                                            const eval::DatasetMeshes& meshes, const eval::ExperimentConfig& config,
                                            const std::vector<eval::GraspRecord>& records);
 
+/// A warning when most grasps of `records` could not be moved onto a
+/// reconstructed mesh at all (meshes in different frames or units); empty
+/// when all is well.
+std::string frameWarning(const std::vector<eval::GraspRecord>& records, const std::string& dataset);
+
 /// With --align icp: moves `mesh` onto the CAD surface (point-to-plane ICP)
 /// and returns what was done; with --align none: nothing (null).
 nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh, const TriangleMesh& cad,
