@@ -27,7 +27,9 @@ void ExperimentOptions::addTo(CLI::App& command) {
   command.add_option("--alpha", alpha, "TWS radius = alpha x epsilon of the CAD grasp")->capture_default_str();
   command.add_option("--mode", mode, "Region growth: bfs (from the contact) or full (every vertex)")
       ->capture_default_str();
-  command.add_option("--metric", metric, "Distances of Q_n: geodesic (shortest paths over the CAD mesh: edges plus unfolded diagonals) or euclidean")
+  command.add_option("--metric", metric,
+                     "Distances of Q_n: geodesic (shortest paths over the CAD mesh: edges plus unfolded diagonals) "
+                     "or euclidean")
       ->capture_default_str();
   command.add_option("--max-line-distance", max_line_distance,
                      "Normal-line crossings farther than this (metres) are ignored (the object's far side)")
