@@ -76,8 +76,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
       [&] { return std::make_unique<eval::DatasetExperiment>(eval::DatasetMeshes{name, &cad, &raw, &filtered}, config); },
       {{"CAD mesh", o.cad}, {"raw mesh", o.raw}, {"filtered mesh", o.filtered}});
   const double prepare_ms = context.elapsedMs() - prepare_start;
-  // The nominal work list, as in `icrkit paper`: shards of both agree.
-  const auto [begin, end] = shard.range(config.finger_counts.size() * config.grasps_per_set);
+  const auto [begin, end] = shard.range(config.nominalItems());
   context.note("evaluating " + std::to_string(end - begin) + " of " + std::to_string(experiment->itemCount()) +
                " grasps on " + name);
   const double run_start = context.elapsedMs();

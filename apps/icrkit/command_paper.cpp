@@ -67,7 +67,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
 
   // Shards split the nominal work list (datasets x finger counts x grasps)
   // into contiguous blocks, so a shard only makes the datasets it needs.
-  const std::size_t per_dataset = config.finger_counts.size() * config.grasps_per_set;
+  const std::size_t per_dataset = config.nominalItems();
   const auto [begin, end] = shard.range(per_dataset * specs.size());
 
   std::vector<eval::GraspRecord> records;

@@ -63,6 +63,22 @@ void ExperimentConfig::validate() const {
   contactModel().validate();
 }
 
+icr::IcrParameters ExperimentConfig::icrParameters(double tws_radius) const {
+  icr::IcrParameters params;
+  params.contact_model = contactModel();
+  params.tws_radius = tws_radius;
+  params.mode = growth;
+  return params;
+}
+
+std::vector<std::uint8_t> ExperimentConfig::filteredExclusion(const TriangleMesh& filtered) const {
+  return preselection ? icr::exclusionMaskOf(filtered) : std::vector<std::uint8_t>{};
+}
+
+icr::WrenchFrame commonWrenchFrame(const TriangleMesh& cad) {
+  return icr::makeWrenchFrame(cad.vertices.positions, icr::TorqueReference::Centroid);
+}
+
 icr::ContactModel ExperimentConfig::contactModel() const {
   icr::ContactModel model;
   model.type = icr::ContactType::Frictional;
@@ -96,7 +112,7 @@ struct DatasetExperiment::Impl {
         frame(f),
         cad_object(*m.cad, f),
         raw_object(*m.raw, f),  // raw meshes are never preselected
-        filtered_object(*m.filtered, f, c.preselection ? icr::exclusionMaskOf(*m.filtered) : std::vector<std::uint8_t>{}),
+        filtered_object(*m.filtered, f, c.filteredExclusion(*m.filtered)),
         to_raw(*m.raw, c.mapping),
         to_filtered(*m.filtered, c.mapping),
         estimator(*m.cad, c.mapping),
@@ -186,10 +202,7 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
   record.filtered = transfer(grasp.contacts, record.tws_radius, to_filtered, filtered_object);
   if (!record.raw.eligible() || !record.filtered.eligible()) return record;
 
-  icr::IcrParameters params;
-  params.contact_model = model;
-  params.tws_radius = record.tws_radius;
-  params.mode = config.growth;
+  const icr::IcrParameters params = config.icrParameters(record.tws_radius);
   const icr::IcrResult cad = icr::computeIndependentContactRegions(cad_object, grasp.contacts, params);
   const icr::IcrResult raw = icr::computeIndependentContactRegions(raw_object, record.raw.contacts, params);
   const icr::IcrResult filtered = icr::computeIndependentContactRegions(filtered_object, record.filtered.contacts, params);
@@ -212,7 +225,7 @@ icr::WrenchFrame cadFrame(const DatasetMeshes& meshes, const ExperimentConfig& c
   requireNormals(meshes.cad, "CAD mesh");
   requireNormals(meshes.raw, "raw mesh");
   requireNormals(meshes.filtered, "filtered mesh");
-  return icr::makeWrenchFrame(meshes.cad->vertices.positions, icr::TorqueReference::Centroid);
+  return commonWrenchFrame(*meshes.cad);
 }
 
 }  // namespace

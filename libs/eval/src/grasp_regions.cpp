@@ -10,11 +10,10 @@ GraspRegions regrowRegions(const DatasetMeshes& meshes, const ExperimentConfig& 
   if (!record.evaluated) return regions;
   if (!meshes.cad || !meshes.raw || !meshes.filtered)
     throw InputError("grasp regions", record.dataset, "the CAD, raw and filtered meshes are all needed");
-  const icr::WrenchFrame frame = icr::makeWrenchFrame(meshes.cad->vertices.positions, icr::TorqueReference::Centroid);
-  icr::IcrParameters params;
-  params.contact_model = config.contactModel();
-  params.tws_radius = record.tws_radius;
-  params.mode = config.growth;
+  // The experiment's own frame, growth parameters and exclusion: the same
+  // regions come back.
+  const icr::WrenchFrame frame = commonWrenchFrame(*meshes.cad);
+  const icr::IcrParameters params = config.icrParameters(record.tws_radius);
   const auto grow = [&](const TriangleMesh& mesh, std::vector<std::uint8_t> excluded, const std::vector<int>& contacts) {
     const icr::GraspableObject object(mesh, frame, std::move(excluded));
     std::vector<std::vector<int>> out;
@@ -24,9 +23,7 @@ GraspRegions regrowRegions(const DatasetMeshes& meshes, const ExperimentConfig& 
   };
   regions.cad = grow(*meshes.cad, {}, record.cad_contacts);
   regions.raw = grow(*meshes.raw, {}, record.raw.contacts);
-  regions.filtered = grow(*meshes.filtered,
-                          config.preselection ? icr::exclusionMaskOf(*meshes.filtered) : std::vector<std::uint8_t>{},
-                          record.filtered.contacts);
+  regions.filtered = grow(*meshes.filtered, config.filteredExclusion(*meshes.filtered), record.filtered.contacts);
   return regions;
 }
 

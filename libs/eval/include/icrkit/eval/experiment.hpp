@@ -61,7 +61,21 @@ struct ExperimentConfig {
   /// Throws InputError naming the first parameter out of range.
   void validate() const;
   icr::ContactModel contactModel() const;
+  /// Region growth with an absolute TWS ball of `tws_radius`, as every mesh
+  /// of one grasp uses it.
+  icr::IcrParameters icrParameters(double tws_radius) const;
+  /// The filtered mesh's exclusion mask (its `excluded` flags), or none
+  /// without preselection.
+  std::vector<std::uint8_t> filteredExclusion(const TriangleMesh& filtered) const;
+  /// Work items of one dataset before sampling: finger counts x grasps per
+  /// set. Shards split this nominal list, so that `evaluate` and `paper`
+  /// shards agree whatever sampling returns.
+  std::size_t nominalItems() const { return finger_counts.size() * grasps_per_set; }
 };
+
+/// The wrench frame all three meshes share: torque reference = the CAD
+/// mesh's vertex centroid, lambda = the largest CAD vertex distance from it.
+icr::WrenchFrame commonWrenchFrame(const TriangleMesh& cad);
 
 /// The three meshes of one object. CAD and reconstructed meshes need one unit
 /// normal per vertex; the filtered mesh's `excluded` attribute (when present)
