@@ -5,6 +5,7 @@
 // report, which says what is missing: a half-copied run is worth looking at.
 
 #include "commands.hpp"
+#include "experiment_options.hpp"
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
@@ -50,30 +51,6 @@ std::optional<std::string> readText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-/// ExperimentConfig from run.json's "config" (experimentConfigJson's keys);
-/// absent keys keep the defaults, which are the paper's.
-eval::ExperimentConfig configFromRunJson(const nlohmann::json& config) {
-  eval::ExperimentConfig out;
-  if (!config.is_object()) return out;
-  if (config.contains("finger_counts")) out.finger_counts = config.at("finger_counts").get<std::vector<std::size_t>>();
-  out.grasps_per_set = config.value("grasps_per_set", out.grasps_per_set);
-  out.seed = config.value("seed", out.seed);
-  out.alpha = config.value("alpha", out.alpha);
-  if (config.contains("contact_model")) {
-    const auto& model = config.at("contact_model");
-    out.friction = model.value("mu", out.friction);
-    out.cone_edges = model.value("edges", out.cone_edges);
-  }
-  out.growth = config.value("growth", std::string("bfs")) == "full" ? icr::GrowthMode::Full : icr::GrowthMode::BreadthFirst;
-  const std::string metric = config.value("metric", std::string("geodesic_edges_and_unfolded_diagonals"));
-  out.metric = metric == "euclidean" ? eval::DistanceMetric::Euclidean : eval::DistanceMetric::Geodesic;
-  if (metric == "geodesic_edges") out.paths = eval::GeodesicPaths::Edges;
-  out.mapping.max_line_distance = config.value("max_line_distance_m", out.mapping.max_line_distance);
-  out.mapping.neighbourhood_radius = config.value("neighbourhood_radius_m", out.mapping.neighbourhood_radius);
-  out.preselection = config.value("preselection", out.preselection);
-  return out;
 }
 
 std::string scalarText(const nlohmann::json& value) {
@@ -193,7 +170,7 @@ nlohmann::json report(const ReportOptions& o, CommandContext& context) {
   } else {
     missing("run.json", "the run's parameters and datasets");
   }
-  const eval::ExperimentConfig config = configFromRunJson(run.is_object() ? run.value("config", nlohmann::json()) : nlohmann::json());
+  const eval::ExperimentConfig config = experimentConfigFromJson(run.is_object() ? run.value("config", nlohmann::json()) : nlohmann::json());
   eval::TableOneOptions table_options;
   if (run.is_object() && run.contains("datasets"))
     for (const auto& d : run.at("datasets"))

@@ -120,6 +120,28 @@ nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {
           {"wrench_frame", "CAD mesh centroid, lambda = largest CAD vertex distance from it"}};
 }
 
+eval::ExperimentConfig experimentConfigFromJson(const nlohmann::json& config) {
+  eval::ExperimentConfig out;
+  if (!config.is_object()) return out;
+  if (config.contains("finger_counts")) out.finger_counts = config.at("finger_counts").get<std::vector<std::size_t>>();
+  out.grasps_per_set = config.value("grasps_per_set", out.grasps_per_set);
+  out.seed = config.value("seed", out.seed);
+  out.alpha = config.value("alpha", out.alpha);
+  if (config.contains("contact_model")) {
+    const auto& model = config.at("contact_model");
+    out.friction = model.value("mu", out.friction);
+    out.cone_edges = model.value("edges", out.cone_edges);
+  }
+  out.growth = config.value("growth", std::string("bfs")) == "full" ? icr::GrowthMode::Full : icr::GrowthMode::BreadthFirst;
+  const std::string metric = config.value("metric", std::string("geodesic_edges_and_unfolded_diagonals"));
+  out.metric = metric == "euclidean" ? eval::DistanceMetric::Euclidean : eval::DistanceMetric::Geodesic;
+  if (metric == "geodesic_edges") out.paths = eval::GeodesicPaths::Edges;
+  out.mapping.max_line_distance = config.value("max_line_distance_m", out.mapping.max_line_distance);
+  out.mapping.neighbourhood_radius = config.value("neighbourhood_radius_m", out.mapping.neighbourhood_radius);
+  out.preselection = config.value("preselection", out.preselection);
+  return out;
+}
+
 std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
     const std::function<std::unique_ptr<eval::DatasetExperiment>()>& make,
     const std::map<std::string, std::string>& files) {
