@@ -8,10 +8,9 @@
 
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_normals.hpp>
+#include <icrkit/eval/grasp_render.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
-#include <icrkit/eval/mesh_distances.hpp>
 #include <icrkit/eval/mesh_render.hpp>
-#include <icrkit/eval/region_quality.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -53,12 +52,6 @@ struct RegionSet {
   std::vector<int> contacts;  ///< -1 when the entry has none
   std::vector<std::vector<int>> vertices;
 };
-
-// Dots: contacts dark with a white ring, central points white with a dark
-// ring, so that both stand out on any finger colour and differ from each other.
-const Eigen::Vector3f kContactFill(0.1f, 0.1f, 0.1f);
-const Eigen::Vector3f kCentralFill(1.0f, 1.0f, 1.0f);
-const Eigen::Vector3f kDarkRing(0.1f, 0.1f, 0.1f);
 
 std::string lowercaseExtension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
@@ -233,43 +226,6 @@ nlohmann::json cameraJson(const eval::RenderCamera& camera) {
 }
 
 // Central point (geodesic, as Q_n uses) of each region; -1 for an empty one.
-std::vector<int> centralPoints(const TriangleMesh& mesh, const RegionSet& set) {
-  std::vector<int> centres(set.vertices.size(), -1);
-  if (set.vertices.empty()) return centres;
-  const eval::MeshDistanceGraph graph(mesh);
-  eval::DistanceWorkspace workspace;
-  for (std::size_t r = 0; r < set.vertices.size(); ++r)
-    if (!set.vertices[r].empty())
-      centres[r] = eval::centralPoint(graph, set.vertices[r], eval::DistanceMetric::Geodesic, workspace).vertex;
-  return centres;
-}
-
-std::vector<eval::Marker> markersFor(const TriangleMesh& mesh, const std::vector<int>& contacts,
-                                     const std::vector<int>& centres, int width) {
-  // Dots grow with the image, from 4 px at 400 px wide.
-  const double radius = std::max(3.0, width / 100.0);
-  std::vector<eval::Marker> markers;
-  for (int c : centres) {
-    if (c < 0) continue;
-    eval::Marker marker;
-    marker.position = mesh.vertices.positions[static_cast<std::size_t>(c)];
-    marker.colour = kCentralFill;
-    marker.outline_colour = kDarkRing;
-    marker.radius_px = radius * 0.8;
-    markers.push_back(marker);
-  }
-  // Contacts last: on top when a contact is its region's central point.
-  for (int c : contacts) {
-    if (c < 0) continue;
-    eval::Marker marker;
-    marker.position = mesh.vertices.positions[static_cast<std::size_t>(c)];
-    marker.colour = kContactFill;
-    marker.radius_px = radius;
-    markers.push_back(marker);
-  }
-  return markers;
-}
-
 std::vector<eval::RgbImage> renderViews(const TriangleMesh& mesh, const std::vector<eval::RenderCamera>& cameras,
                                         const eval::RenderStyle& style, const eval::SurfaceColours& colours,
                                         const std::vector<eval::Marker>& markers, const std::string& caption_prefix,
@@ -330,19 +286,18 @@ void run(const RenderOptions& options, CommandContext& context) {
   eval::RgbImage image;
   std::vector<eval::LegendEntry> legend;
   const auto dotEntries = [&](bool centres) {
-    legend.push_back({kContactFill, "prototype contact", true});
-    if (centres) legend.push_back({kCentralFill, "central point", true});
+    for (const eval::LegendEntry& entry : eval::graspMarkerLegend(centres)) legend.push_back(entry);
   };
   int columns = std::min(options.columns, view_count);  // <= 0: chosen below
 
   if (!comparing) {
     const std::vector<int> centres =
-        options.central_points ? centralPoints(mesh, regions) : std::vector<int>(regions.vertices.size(), -1);
+        options.central_points ? eval::regionCentralPoints(mesh, regions.vertices) : std::vector<int>(regions.vertices.size(), -1);
     eval::SurfaceColours colours;
     if (!regions.fingers.empty())
       colours.per_vertex = eval::regionColours(mesh, regions.fingers, regions.vertices, style.base_colour);
     const std::vector<eval::RgbImage> views =
-        renderViews(mesh, cameras, style, colours, markersFor(mesh, contacts, centres, width), "", context);
+        renderViews(mesh, cameras, style, colours, eval::graspMarkers(mesh, contacts, centres, width), "", context);
     if (columns <= 0) columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(view_count))));
     image = eval::tileImages(views, columns);
     nlohmann::json regions_json = nlohmann::json::array();
@@ -403,16 +358,16 @@ void run(const RenderOptions& options, CommandContext& context) {
     cad_colours.per_face = eval::cadComparisonColours(mesh, cad_sets, intersection_faces, style.base_colour);
     scan_colours.per_corner = eval::scanComparisonColours(other, scan_sets, inside, style.base_colour);
     const std::vector<int> cad_centres =
-        options.central_points ? centralPoints(mesh, regions) : std::vector<int>(regions.vertices.size(), -1);
-    const std::vector<int> scan_centres = options.central_points ? centralPoints(other, other_regions)
+        options.central_points ? eval::regionCentralPoints(mesh, regions.vertices) : std::vector<int>(regions.vertices.size(), -1);
+    const std::vector<int> scan_centres = options.central_points ? eval::regionCentralPoints(other, other_regions.vertices)
                                                                  : std::vector<int>(other_regions.vertices.size(), -1);
     // Both rows use the cameras fitted to MESH: the meshes share a frame, so
     // the same place appears at the same pixel in both rows.
     std::vector<eval::RgbImage> views =
-        renderViews(mesh, cameras, style, cad_colours, markersFor(mesh, contacts, cad_centres, width), "CAD: ", context);
+        renderViews(mesh, cameras, style, cad_colours, eval::graspMarkers(mesh, contacts, cad_centres, width), "CAD: ", context);
     std::vector<eval::RgbImage> scan_views =
         renderViews(other, cameras, style, scan_colours,
-                    markersFor(other, contactsOf(other_regions), scan_centres, width), "reconstructed: ", context);
+                    eval::graspMarkers(other, contactsOf(other_regions), scan_centres, width), "reconstructed: ", context);
     if (columns <= 0) columns = view_count;
     // Rows of `columns` CAD views, then the same rows for the reconstruction.
     const int rows = (view_count + columns - 1) / columns;

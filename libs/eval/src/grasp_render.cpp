@@ -13,39 +13,43 @@ namespace {
 const Eigen::Vector3f kContact(0.1f, 0.1f, 0.1f);
 const Eigen::Vector3f kCentre(1.0f, 1.0f, 1.0f);
 
-// Contacts dark with a white ring, central points white with a dark ring:
-// both stand out on every palette colour and differ from each other.
-std::vector<Marker> markers(const TriangleMesh& mesh, const std::vector<int>& contacts,
-                            const std::vector<std::vector<int>>& regions, bool central_points, int width) {
-  const double radius = std::max(3.0, width / 100.0);
-  std::vector<Marker> out;
-  if (central_points) {
-    const MeshDistanceGraph graph(mesh);
-    DistanceWorkspace workspace;
-    for (const auto& region : regions) {
-      if (region.empty()) continue;
-      const int centre = centralPoint(graph, region, DistanceMetric::Geodesic, workspace).vertex;
-      if (centre < 0) continue;
-      Marker m;
-      m.position = mesh.vertices.positions[static_cast<std::size_t>(centre)];
-      m.colour = kCentre;
-      m.outline_colour = kContact;
-      m.radius_px = 0.8 * radius;
-      out.push_back(m);
-    }
-  }
-  for (const int c : contacts) {
-    if (c < 0 || static_cast<std::size_t>(c) >= mesh.vertexCount()) continue;
-    Marker m;
-    m.position = mesh.vertices.positions[static_cast<std::size_t>(c)];
-    m.colour = kContact;
-    m.radius_px = radius;
-    out.push_back(m);
-  }
-  return out;
+}  // namespace
+
+std::vector<int> regionCentralPoints(const TriangleMesh& mesh, const std::vector<std::vector<int>>& regions) {
+  std::vector<int> centres(regions.size(), -1);
+  if (regions.empty()) return centres;
+  const MeshDistanceGraph graph(mesh);
+  DistanceWorkspace workspace;
+  for (std::size_t r = 0; r < regions.size(); ++r)
+    if (!regions[r].empty()) centres[r] = centralPoint(graph, regions[r], DistanceMetric::Geodesic, workspace).vertex;
+  return centres;
 }
 
-}  // namespace
+std::vector<Marker> graspMarkers(const TriangleMesh& mesh, const std::vector<int>& contacts,
+                                 const std::vector<int>& central_points, int view_width) {
+  // Dots grow with the image, from 4 px at 400 px wide.
+  const double radius = std::max(3.0, view_width / 100.0);
+  std::vector<Marker> markers;
+  const auto add = [&](int vertex, const Eigen::Vector3f& fill, const Eigen::Vector3f& ring, double r) {
+    if (vertex < 0 || static_cast<std::size_t>(vertex) >= mesh.vertexCount()) return;
+    Marker m;
+    m.position = mesh.vertices.positions[static_cast<std::size_t>(vertex)];
+    m.colour = fill;
+    m.outline_colour = ring;
+    m.radius_px = r;
+    markers.push_back(m);
+  };
+  for (const int c : central_points) add(c, kCentre, kContact, 0.8 * radius);
+  // Contacts last: on top when a contact is its region's central point.
+  for (const int c : contacts) add(c, kContact, Marker{}.outline_colour, radius);
+  return markers;
+}
+
+std::vector<LegendEntry> graspMarkerLegend(bool central_points) {
+  std::vector<LegendEntry> legend{{kContact, "prototype contact", true}};
+  if (central_points) legend.push_back({kCentre, "central point", true});
+  return legend;
+}
 
 RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::vector<int>>& cad_regions,
                                const std::vector<int>& cad_contacts, const TriangleMesh& scan,
@@ -79,8 +83,11 @@ RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::v
   // of the object sits at the same pixel in both.
   const std::vector<RenderCamera> cameras = orbitCameras(cad, orbit);
   const MeshRenderer cad_renderer(cad), scan_renderer(scan);
-  const auto cad_markers = markers(cad, cad_contacts, cad_regions, params.central_points, params.view_width);
-  const auto scan_markers = markers(scan, scan_contacts, scan_regions, params.central_points, params.view_width);
+  const auto centres = [&](const TriangleMesh& mesh, const std::vector<std::vector<int>>& regions) {
+    return params.central_points ? regionCentralPoints(mesh, regions) : std::vector<int>{};
+  };
+  const auto cad_markers = graspMarkers(cad, cad_contacts, centres(cad, cad_regions), params.view_width);
+  const auto scan_markers = graspMarkers(scan, scan_contacts, centres(scan, scan_regions), params.view_width);
   std::vector<RgbImage> tiles;
   for (const RenderCamera& camera : cameras) {
     RgbImage image = cad_renderer.render(camera, style, cad_colours, cad_markers);
@@ -95,9 +102,8 @@ RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::v
   const ComparisonPalette palette;
   std::vector<LegendEntry> legend{{palette.intersection, "I_n / inside the CAD region", false},
                                   {palette.missed, "CAD region outside I_n", false},
-                                  {palette.false_positive, "false positive", false},
-                                  {kContact, "prototype contact", true}};
-  if (params.central_points) legend.push_back({kCentre, "central point", true});
+                                  {palette.false_positive, "false positive", false}};
+  for (const LegendEntry& entry : graspMarkerLegend(params.central_points)) legend.push_back(entry);
   return appendLegend(tileImages(tiles, static_cast<int>(cameras.size())), legend);
 }
 

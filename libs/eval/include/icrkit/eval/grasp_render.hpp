@@ -22,6 +22,19 @@ struct GraspRenderParameters {
   bool central_points = true;
 };
 
+/// The geodesic central point of each region (Fig. 7), -1 for an empty one.
+std::vector<int> regionCentralPoints(const TriangleMesh& mesh, const std::vector<std::vector<int>>& regions);
+
+/// The dots of a grasp picture, sized for views `view_width` pixels wide:
+/// central points (white, dark ring; skipped when -1), then contacts (dark,
+/// white ring) on top, so both stand out on every palette colour and differ
+/// from each other.
+std::vector<Marker> graspMarkers(const TriangleMesh& mesh, const std::vector<int>& contacts,
+                                 const std::vector<int>& central_points, int view_width);
+
+/// Legend entries of those dots (contacts; central points when asked).
+std::vector<LegendEntry> graspMarkerLegend(bool central_points);
+
 /// `cad_regions[n]` and `scan_regions[n]` are finger n's regions (same
 /// finger order), `cad_contacts` / `scan_contacts` the prototype grasps.
 /// `scan_label` names the reconstruction in the captions ("filtered", "raw").
