@@ -62,12 +62,8 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   nlohmann::json alignment = nlohmann::json::array();
   const double align_start = context.elapsedMs();
   for (auto [mesh, path] : {std::pair<TriangleMesh*, const std::string*>{&raw, &o.raw}, {&filtered, &o.filtered}}) {
-    try {
-      const nlohmann::json a = alignIfAsked(o.experiment, *mesh, cad, *path);
-      if (!a.is_null()) alignment.push_back(a);
-    } catch (const InputError& error) {
-      throw InputError(*path, "", std::string("--align icp: ") + error.detail());
-    }
+    const nlohmann::json a = alignIfAsked(o.experiment, *mesh, cad, *path, *path);
+    if (!a.is_null()) alignment.push_back(a);
   }
   const double align_ms = context.elapsedMs() - align_start;
 
@@ -109,23 +105,22 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   outputs.finger_counts = config.finger_counts;
   outputs.run_json = run.dump();
   const double write_start = context.elapsedMs();
-  auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  eval::WrittenOutputs written = eval::writeExperimentOutputs(o.output, records, outputs);
+  std::vector<std::string>& files = written.files;
   const double render_start = context.elapsedMs();
   for (const std::string& f :
        writeGraspRenders(o.output, o.experiment, eval::DatasetMeshes{name, &cad, &raw, &filtered}, config, records))
     files.push_back(f);
   const double render_ms = context.elapsedMs() - render_start;
 
-  const eval::TableOne table = eval::computeTableOne(records);
-  const eval::EligibilitySummary eligibility = eval::computeEligibility(records);
-  nlohmann::json summary = nlohmann::json::parse(eval::tableOneJson(table));
+  nlohmann::json summary = nlohmann::json::parse(eval::tableOneJson(written.table));
   return {{"output", o.output},
           {"dataset", name},
           {"warnings", warning.empty() ? nlohmann::json::array() : nlohmann::json::array({warning})},
           {"grasps", records.size()},
           {"shard", {{"index", shard.index}, {"count", shard.count}}},
           {"table1", summary},
-          {"eligibility", nlohmann::json::parse(eval::eligibilityJson(eligibility))["overall"]},
+          {"eligibility", nlohmann::json::parse(eval::eligibilityJson(written.eligibility))["overall"]},
           {"files", files},
           {"time_ms",
            {{"read", read_ms},
@@ -200,7 +195,7 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
   for (const auto& dataset : first.at("datasets")) outputs.dataset_order.push_back(dataset.at("name"));
   for (const auto& f : first.at("config").at("finger_counts")) outputs.finger_counts.push_back(f);
   outputs.run_json = run.dump();
-  auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  std::vector<std::string> files = eval::writeExperimentOutputs(o.output, records, outputs).files;
   // Each shard rendered grasps of its own block; the merged folder keeps them all.
   for (const std::string& input : o.inputs) {
     const fs::path from = fs::path(input) / "renders";

@@ -116,12 +116,8 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     const TriangleMesh cad = io::readTriangleMesh((data_dir / "object.ply").string());
     nlohmann::json alignment = nlohmann::json::array();
     for (auto [mesh, label] : {std::pair<TriangleMesh*, const char*>{&raw, "raw.ply"}, {&filtered, "filtered.ply"}}) {
-      try {
-        const nlohmann::json a = alignIfAsked(o.experiment, *mesh, cad, label);
-        if (!a.is_null()) alignment.push_back(a);
-      } catch (const InputError& error) {
-        throw InputError((rec_dir / label).string(), "", std::string("--align icp: ") + error.detail());
-      }
+      const nlohmann::json a = alignIfAsked(o.experiment, *mesh, cad, label, (rec_dir / label).string());
+      if (!a.is_null()) alignment.push_back(a);
     }
     const auto experiment = namingMeshFiles(
         [&] { return std::make_unique<eval::DatasetExperiment>(eval::DatasetMeshes{name, &cad, &raw, &filtered}, config); },
@@ -168,17 +164,17 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   outputs.dataset_order = order;
   outputs.finger_counts = config.finger_counts;
   outputs.run_json = run.dump();
-  auto files = eval::writeExperimentOutputs(o.output, records, outputs);
+  eval::WrittenOutputs written = eval::writeExperimentOutputs(o.output, records, outputs);
+  std::vector<std::string>& files = written.files;
   files.insert(files.end(), renders.begin(), renders.end());
 
-  const eval::TableOne table = eval::computeTableOne(records, {order, 0});
   return {{"output", o.output},
           {"warnings", warnings},
           {"datasets", datasets},
           {"grasps", records.size()},
           {"shard", {{"index", shard.index}, {"count", shard.count}}},
-          {"table1", nlohmann::json::parse(eval::tableOneJson(table))},
-          {"eligibility", nlohmann::json::parse(eval::eligibilityJson(eval::computeEligibility(records)))["overall"]},
+          {"table1", nlohmann::json::parse(eval::tableOneJson(written.table))},
+          {"eligibility", nlohmann::json::parse(eval::eligibilityJson(written.eligibility))["overall"]},
           {"files", files},
           {"time_ms", {{"stages", stage_times}, {"total", context.elapsedMs()}}}};
 }

@@ -155,9 +155,14 @@ std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
 }
 
 nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh, const TriangleMesh& cad,
-                            const std::string& name) {
+                            const std::string& name, const std::string& path) {
   if (options.align != "icp") return nullptr;
-  const eval::AlignmentResult a = eval::alignToCad(mesh, cad);
+  eval::AlignmentResult a;
+  try {
+    a = eval::alignToCad(mesh, cad);
+  } catch (const InputError& error) {
+    throw InputError(path, "", std::string("--align icp: ") + error.detail());
+  }
   eval::transformMesh(mesh, a.transform);
   const Eigen::AngleAxisd rotation(a.transform.linear());
   return {{"mesh", name},

@@ -56,9 +56,10 @@ std::vector<std::string> writeGraspRenders(const std::string& directory, const E
 std::string frameWarning(const std::vector<eval::GraspRecord>& records, const std::string& dataset);
 
 /// With --align icp: moves `mesh` onto the CAD surface (point-to-plane ICP)
-/// and returns what was done; with --align none: nothing (null).
+/// and returns what was done, recorded under `name`; with --align none:
+/// nothing (null). A failed alignment is an InputError naming `path`.
 nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh, const TriangleMesh& cad,
-                            const std::string& name);
+                            const std::string& name, const std::string& path);
 
 /// Runs `make` and renames an InputError about "CAD mesh", "raw mesh" or
 /// "filtered mesh" to the file it came from.

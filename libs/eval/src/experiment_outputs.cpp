@@ -11,7 +11,7 @@
 
 namespace icrkit::eval {
 
-std::vector<std::string> writeExperimentOutputs(const std::string& directory, std::vector<GraspRecord> records,
+WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<GraspRecord> records,
                                                 const ExperimentOutputs& outputs) {
   namespace fs = std::filesystem;
   const fs::path dir(directory);
@@ -20,19 +20,22 @@ std::vector<std::string> writeExperimentOutputs(const std::string& directory, st
   if (error) throw InputError(directory, "", "cannot create the directory: " + error.message());
   std::sort(records.begin(), records.end());
 
-  std::vector<std::string> written;
+  WrittenOutputs written;
   const auto path = [&](const std::string& name) {
-    written.push_back((dir / name).string());
-    return written.back();
+    written.files.push_back((dir / name).string());
+    return written.files.back();
   };
   writeGraspRecords(path("grasps.jsonl"), records);
   TableOneOptions table_options;
   table_options.dataset_order = outputs.dataset_order;
-  writeResultsTables(directory, records, table_options);
-  for (const char* name : {"table1.md", "table1.csv", "table1.json", "eligibility.json"}) path(name);
-  const TableOne table = computeTableOne(records, table_options);
-  writeTableOneSvg(path("table1.svg"), table);
-  writeTableOnePng(path("table1.png"), table);
+  written.table = computeTableOne(records, table_options);
+  written.eligibility = computeEligibility(records, table_options);
+  writeTableOneMarkdown(path("table1.md"), written.table);
+  writeTableOneCsv(path("table1.csv"), written.table);
+  writeTableOneJson(path("table1.json"), written.table);
+  writeEligibilityJson(path("eligibility.json"), written.eligibility);
+  writeTableOneSvg(path("table1.svg"), written.table);
+  writeTableOnePng(path("table1.png"), written.table);
   for (const std::size_t fingers : outputs.finger_counts) {
     const QualityHistogram histogram = cumulativeQualityHistogram(records, fingers);
     const std::string stem = "fig8_" + std::to_string(fingers) + "fingers";

@@ -6,6 +6,7 @@
 /// fig8_<N>fingers.{svg,png,json} for each finger count, run.json.
 
 #include <icrkit/eval/experiment_records.hpp>
+#include <icrkit/eval/results_tables.hpp>
 
 #include <cstddef>
 #include <string>
@@ -19,9 +20,15 @@ struct ExperimentOutputs {
   std::string run_json;                    ///< written verbatim as run.json (parameters, versions)
 };
 
+struct WrittenOutputs {
+  std::vector<std::string> files;  ///< the paths written
+  TableOne table;                  ///< as written, for a command's summary
+  EligibilitySummary eligibility;
+};
+
 /// Creates `directory` if needed and writes every file atomically; the
-/// records are written sorted. Returns the paths written.
-std::vector<std::string> writeExperimentOutputs(const std::string& directory, std::vector<GraspRecord> records,
+/// records are written sorted.
+WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<GraspRecord> records,
                                                 const ExperimentOutputs& outputs);
 
 }  // namespace icrkit::eval
