@@ -2,6 +2,8 @@
 
 #include <icrkit/core/triangle_distance.hpp>
 
+#include "line_triangle.hpp"
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -17,23 +19,6 @@ struct Crossing {
   int face = -1;
   Eigen::Vector3d point;
 };
-
-// Line-plane crossing inside the triangle (inclusive edges), double precision.
-bool crossTriangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
-                   const Eigen::Vector3d& b, const Eigen::Vector3d& c, double& t) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a;
-  const Eigen::Vector3d h = direction.cross(e2);
-  const double det = e1.dot(h);
-  if (std::abs(det) < 1e-300) return false;
-  const Eigen::Vector3d s = origin - a;
-  const double u = s.dot(h) / det;
-  if (u < 0.0 || u > 1.0) return false;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = direction.dot(q) / det;
-  if (v < 0.0 || u + v > 1.0) return false;
-  t = e2.dot(q) / det;
-  return true;
-}
 
 struct Best {
   int vertex = -1;
@@ -70,7 +55,9 @@ VertexImage bruteForceCadToScan(const TriangleMesh& scan, const Eigen::Vector3d&
   for (std::size_t i = 0; i < scan.faces.size(); ++i) {
     const Triangle& f = scan.faces[i];
     double t = 0.0;
-    if (!crossTriangle(cad_point, direction, p[f[0]], p[f[1]], p[f[2]], t) || std::abs(t) > max_line_distance) continue;
+    if (!detail::lineMeetsTriangle(cad_point, direction, p[f[0]], p[f[1]], p[f[2]], 0.0, t) ||
+        std::abs(t) > max_line_distance)
+      continue;
     const Eigen::Vector3d normal = (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
     if (!(normal.dot(direction) > 0.0)) continue;
     if (!facing.found || std::abs(t) < std::abs(facing.t))

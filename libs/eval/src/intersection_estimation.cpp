@@ -3,6 +3,8 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_topology.hpp>
 
+#include "line_triangle.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -23,26 +25,10 @@ std::vector<std::uint8_t> membership(std::size_t vertex_count, const std::vector
   return in;
 }
 
-// Inclusive line-triangle test in double precision: a line through a shared
-// vertex or edge touches every face around it, as the paper's "triangles
-// intersected by this line" requires (Embree's watertight test gives such a
-// touch to one face only). Tolerance in barycentric units.
-bool lineTouchesTriangle(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, const Eigen::Vector3d& a,
-                         const Eigen::Vector3d& b, const Eigen::Vector3d& c, double& t) {
-  constexpr double kTolerance = 1e-9;
-  const Eigen::Vector3d e1 = b - a, e2 = c - a;
-  const Eigen::Vector3d h = direction.cross(e2);
-  const double det = e1.dot(h);
-  if (std::abs(det) <= 1e-14 * e1.norm() * e2.norm()) return false;  // line parallel to the face
-  const Eigen::Vector3d s = origin - a;
-  const double u = s.dot(h) / det;
-  if (u < -kTolerance || u > 1.0 + kTolerance) return false;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = direction.dot(q) / det;
-  if (v < -kTolerance || u + v > 1.0 + kTolerance) return false;
-  t = e2.dot(q) / det;
-  return true;
-}
+// Edges and corners count: a line through a shared vertex or edge touches
+// every face around it, as the paper's "triangles intersected by this line"
+// requires (Embree's watertight test gives such a touch to one face only).
+constexpr double kTouchTolerance = 1e-9;
 
 double triangleArea(const TriangleMesh& mesh, const Triangle& f) {
   const auto& p = mesh.vertices.positions;
@@ -122,7 +108,8 @@ RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_r
           if (!cad_faces[face]) continue;
           const Triangle& f = cad.faces[face];
           double t = 0.0;
-          if (!lineTouchesTriangle(origin, direction, positions[f[0]], positions[f[1]], positions[f[2]], t) ||
+          if (!detail::lineMeetsTriangle(origin, direction, positions[f[0]], positions[f[1]], positions[f[2]],
+                                         kTouchTolerance, t) ||
               std::abs(t) > reach)
             continue;
           crossed[face] = 1;
