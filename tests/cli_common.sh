@@ -25,3 +25,17 @@ expect_input_error() {
   grep -q -- "$pattern" "$work/err" || fail "'$*': error lacks '$pattern': $(cat "$work/err")"
   [ ! -s "$work/out" ] || fail "'$*': printed on stdout despite failing"
 }
+
+# py_meshes CODE: python with tests/plyfile.py and tests/testmeshes.py importable.
+py_meshes() { py "import sys; sys.path.insert(0, '$here'); import testmeshes
+$1"; }
+
+# make_evaluation_meshes ICRKIT DIR: DIR/sim/object.ply (a simulated CAD
+# object), DIR/raw.ply (its noisy copy) and DIR/filtered.ply (an exact copy
+# with every 97th vertex excluded), for evaluate/report runs.
+make_evaluation_meshes() {
+  "$1" simulate --object wooden_toy_2 --sensor kinect --views 1 --seed 1 -o "$2/sim" --quiet >/dev/null ||
+    { echo "FAIL: simulate" >&2; exit 1; }
+  py_meshes "testmeshes.write_evaluation_meshes('$2/sim/object.ply', '$2/raw.ply', '$2/filtered.ply')" ||
+    { echo "FAIL: writing the test meshes" >&2; exit 1; }
+}

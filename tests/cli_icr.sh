@@ -15,37 +15,12 @@ done
 # --- Meshes generated here: an icosphere (radius 0.05 m, 642 vertices) as
 # OBJ without normals, and as ASCII PLY with exact normals and an `excluded`
 # attribute marking the cap z > 0.04.
-py "
-import math
-t = (1 + 5 ** 0.5) / 2
-v = [(-1,t,0),(1,t,0),(-1,-t,0),(1,-t,0),(0,-1,t),(0,1,t),(0,-1,-t),(0,1,-t),(t,0,-1),(t,0,1),(-t,0,-1),(-t,0,1)]
-f = [(0,11,5),(0,5,1),(0,1,7),(0,7,10),(0,10,11),(1,5,9),(5,11,4),(11,10,2),(10,7,6),(7,1,8),
-     (3,9,4),(3,4,2),(3,2,6),(3,6,8),(3,8,9),(4,9,5),(2,4,11),(6,2,10),(8,6,7),(9,8,1)]
-for _ in range(3):
-    mid = {}
-    def m(a, b):
-        k = (min(a, b), max(a, b))
-        if k not in mid:
-            v.append(tuple((x + y) / 2 for x, y in zip(v[a], v[b]))); mid[k] = len(v) - 1
-        return mid[k]
-    g = []
-    for a, b, c in f:
-        ab, bc, ca = m(a, b), m(b, c), m(c, a)
-        g += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-    f = g
-n = [tuple(x / math.sqrt(sum(y * y for y in p)) for x in p) for p in v]
-p = [tuple(0.05 * x for x in q) for q in n]
-with open('$work/ico.obj', 'w') as o:
-    o.writelines('v %.17g %.17g %.17g\n' % q for q in p)
-    o.writelines('f %d %d %d\n' % (a + 1, b + 1, c + 1) for a, b, c in f)
-with open('$work/ico.ply', 'w') as o:
-    o.write('ply\nformat ascii 1.0\nelement vertex %d\n' % len(p))
-    o.write(''.join('property double %s\n' % s for s in ('x', 'y', 'z', 'nx', 'ny', 'nz')))
-    o.write('property uchar excluded\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n' % len(f))
-    o.writelines('%.17g %.17g %.17g %.17g %.17g %.17g %d\n' % (q + r + (1 if q[2] > 0.04 else 0,)) for q, r in zip(p, n))
-    o.writelines('3 %d %d %d\n' % t for t in f)
-with open('$work/excluded_count', 'w') as o:
-    o.write(str(sum(1 for q in p if q[2] > 0.04)))
+py_meshes "
+p, n, f = testmeshes.icosphere()
+excluded = [1 if q[2] > 0.04 else 0 for q in p]
+testmeshes.write_obj('$work/ico.obj', p, f)
+testmeshes.write_ascii_ply('$work/ico.ply', p, n, f, excluded)
+open('$work/excluded_count', 'w').write(str(sum(excluded)))
 " || { echo "could not generate the test meshes" >&2; exit 1; }
 ico_obj="$work/ico.obj"
 ico_ply="$work/ico.ply"

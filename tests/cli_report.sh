@@ -12,35 +12,8 @@ source "$(dirname "$0")/cli_common.sh"
 icrkit="${ICRKIT:?set ICRKIT to the icrkit binary}"
 artefacts="${ICRKIT_TEST_ARTEFACTS:-$work/artefacts}"
 
-# CAD, raw (noisy copy) and filtered (exact copy with a few excluded vertices)
-# meshes, as in cli_evaluate.sh.
-"$icrkit" simulate --object wooden_toy_2 --sensor kinect --views 1 --seed 1 -o "$work/sim" --quiet >/dev/null ||
-  { echo "FAIL: simulate" >&2; exit 1; }
-py "
-import struct, random, sys
-sys.path.insert(0, '$here')
-import plyfile
-v, faces = plyfile.read('$work/sim/object.ply')
-n = len(v['x'][1])
-random.seed(3)
-def write(path, noise, excluded_every):
-    props = ['x', 'y', 'z', 'nx', 'ny', 'nz']
-    head = ['ply', 'format binary_little_endian 1.0', 'element vertex %d' % n]
-    head += ['property double %s' % p for p in props]
-    if excluded_every: head.append('property uchar excluded')
-    head += ['element face %d' % len(faces), 'property list uchar int vertex_indices', 'end_header']
-    with open(path, 'wb') as out:
-        out.write(('\n'.join(head) + '\n').encode())
-        for i in range(n):
-            s = random.gauss(0.0, noise) if noise else 0.0
-            p = [v[k][1][i] for k in props]
-            row = struct.pack('<6d', p[0] + s * p[3], p[1] + s * p[4], p[2] + s * p[5], p[3], p[4], p[5])
-            if excluded_every: row += struct.pack('<B', 1 if i % excluded_every == 0 else 0)
-            out.write(row)
-        for f in faces: out.write(struct.pack('<B3i', 3, *f))
-write('$work/raw.ply', 3e-4, 0)
-write('$work/filtered.ply', 0.0, 97)
-" || { echo "FAIL: writing the test meshes" >&2; exit 1; }
+# CAD, raw (noisy copy) and filtered (exact copy with a few excluded vertices) meshes.
+make_evaluation_meshes "$icrkit" "$work"
 
 run="$work/run"
 expect_exit 0 "$icrkit" evaluate --cad "$work/sim/object.ply" --raw "$work/raw.ply" --filtered "$work/filtered.ply" \
