@@ -8,6 +8,8 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace icrkit::test {
@@ -15,6 +17,12 @@ namespace icrkit::test {
 /// Path of a file in the shared real-data directory.
 inline std::string sharedData(const std::string& relative) {
   return std::string(ICRKIT_SHARED_DATA_DIR) + "/" + relative;
+}
+
+/// The whole content of a file ("" when it cannot be read).
+inline std::string readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 /// Unit cube [0,1]^3 (shifted), outward winding. Each side is a quad

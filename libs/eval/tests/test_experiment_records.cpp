@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -14,27 +16,6 @@
 
 namespace icrkit::eval {
 namespace {
-
-/// A fresh directory under the system temp dir, removed with the object.
-class RecordsScratch {
-public:
-  RecordsScratch() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("icrkit_records_" + std::string(info->name()) + "_" +
-             std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~RecordsScratch() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  std::filesystem::path path_;
-};
 
 std::uint64_t bits(double value) {
   std::uint64_t b;
@@ -170,7 +151,7 @@ TEST(Records, OrderIsDatasetFingersIndex) {
 }
 
 TEST(Records, FileRoundTripSortsAndAllowsBlankLines) {
-  RecordsScratch scratch;
+  test::ScratchDir scratch;
   const std::string path = scratch.file("grasps.jsonl");
   const std::vector<GraspRecord> records = {sampleRecord("b", 4, 1), sampleRecord("a", 5, 0),
                                             sampleRecord("a", 4, 3), sampleRecord("a", 4, 2)};
@@ -195,7 +176,7 @@ TEST(Records, FileRoundTripSortsAndAllowsBlankLines) {
 }
 
 TEST(Records, MalformedLineNamesTheLine) {
-  RecordsScratch scratch;
+  test::ScratchDir scratch;
   const std::string path = scratch.file("grasps.jsonl");
   {
     std::ofstream out(path, std::ios::binary);
@@ -238,7 +219,7 @@ TEST(Records, MissingOrWrongFieldIsNamed) {
 }
 
 TEST(Records, MissingFileIsInputError) {
-  RecordsScratch scratch;
+  test::ScratchDir scratch;
   const std::string path = scratch.file("does_not_exist.jsonl");
   try {
     readGraspRecords(path);
@@ -249,7 +230,7 @@ TEST(Records, MissingFileIsInputError) {
 }
 
 TEST(Records, EmptyFileHasNoRecords) {
-  RecordsScratch scratch;
+  test::ScratchDir scratch;
   const std::string path = scratch.file("empty.jsonl");
   writeGraspRecords(path, {});
   EXPECT_TRUE(std::filesystem::exists(path));

@@ -3,6 +3,8 @@
 #include <icrkit/core/error.hpp>
 
 #include <gtest/gtest.h>
+
+#include "test_support.hpp"
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -14,32 +16,6 @@
 
 namespace icrkit::eval {
 namespace {
-
-/// A fresh directory under the system temp dir, removed with the object.
-class QualityScratch {
-public:
-  QualityScratch() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("icrkit_quality_" + std::string(info->name()) + "_" +
-             std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~QualityScratch() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  std::filesystem::path path_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 MeshOutcome meshWithQualities(const std::vector<std::optional<double>>& qualities) {
   MeshOutcome mesh;
@@ -188,7 +164,7 @@ TEST(QualityHistogram, SvgIsWellFormedWithTitleLegendAndBars) {
 }
 
 TEST(QualityHistogram, PngDecodesToThePlot) {
-  QualityScratch scratch;
+  test::ScratchDir scratch;
   const QualityHistogram h = cumulativeQualityHistogram(handMadeRecords(), 4);
   const std::string path = scratch.file("fig8_4fingers.png");
   writeQualityHistogramPng(path, h);
@@ -212,7 +188,7 @@ TEST(QualityHistogram, PngDecodesToThePlot) {
 
   // Same bytes from the encoder and the file, every time.
   const std::vector<unsigned char> png = qualityHistogramPng(h);
-  const std::string file = slurp(path);
+  const std::string file = test::readWholeFile(path);
   EXPECT_EQ(std::string(png.begin(), png.end()), file);
   EXPECT_EQ(qualityHistogramPng(h), png);
 
@@ -225,14 +201,14 @@ TEST(QualityHistogram, PngDecodesToThePlot) {
 }
 
 TEST(QualityHistogram, WritesSvgAndJsonFiles) {
-  QualityScratch scratch;
+  test::ScratchDir scratch;
   const QualityHistogram h = cumulativeQualityHistogram(handMadeRecords(), 5);
   writeQualityHistogramSvg(scratch.file("fig8_5fingers.svg"), h);
   writeQualityHistogramJson(scratch.file("fig8_5fingers.json"), h);
-  const std::string svg = slurp(scratch.file("fig8_5fingers.svg"));
+  const std::string svg = test::readWholeFile(scratch.file("fig8_5fingers.svg"));
   EXPECT_NE(svg.find("Cumulative Q_n, 5 fingers"), std::string::npos);
   EXPECT_EQ(svg, qualityHistogramSvg(h));
-  EXPECT_EQ(nlohmann::json::parse(slurp(scratch.file("fig8_5fingers.json")))["raw"]["counts"].back().get<int>(), 2);
+  EXPECT_EQ(nlohmann::json::parse(test::readWholeFile(scratch.file("fig8_5fingers.json")))["raw"]["counts"].back().get<int>(), 2);
 }
 
 }  // namespace

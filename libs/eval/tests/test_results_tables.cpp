@@ -1,6 +1,8 @@
 #include <icrkit/eval/results_tables.hpp>
 
 #include <gtest/gtest.h>
+
+#include "test_support.hpp"
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -12,33 +14,6 @@
 
 namespace icrkit::eval {
 namespace {
-
-/// A fresh directory under the system temp dir, removed with the object.
-class TablesScratch {
-public:
-  TablesScratch() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("icrkit_tables_" + std::string(info->name()) + "_" +
-             std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TablesScratch() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string dir() const { return path_.string(); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
-private:
-  std::filesystem::path path_;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 /// Percent pairs (Int, FP) of one mesh's regions; a negative Int means "unset" (CAD area 0).
 using Percents = std::vector<std::pair<double, double>>;
@@ -250,14 +225,14 @@ TEST(TableEligibility, CountsAndRates) {
 }
 
 TEST(TableWriters, WritesAllFourFiles) {
-  TablesScratch scratch;
+  test::ScratchDir scratch;
   std::vector<GraspRecord> records;
   records.push_back(evaluated("cup_sr4000_A", 4, 0, {{55, 2}, {57, 2}}, {{14, 0}, {14, 0}}));
   records.push_back(notEvaluated("cup_sr4000_A", 5, 0, false, true, true));
   records.push_back(notEvaluated("my, \"odd\" | set", 4, 0, false, false, false));
-  writeResultsTables(scratch.dir(), records);
+  writeResultsTables(scratch.path().string(), records);
 
-  const std::string md = slurp(scratch.file("table1.md"));
+  const std::string md = test::readWholeFile(scratch.file("table1.md"));
   EXPECT_NE(md.find("| cup_sr4000_A | 1 | 56.0 | 2.0 | 14.0 | 0.0 | 56.0 / 2.0 | 14.0 / 0.0 | 2 | 0 |"),
             std::string::npos)
       << md;
@@ -265,7 +240,7 @@ TEST(TableWriters, WritesAllFourFiles) {
   EXPECT_NE(md.find("59.0 / 9.0"), std::string::npos) << md;  // the paper's Average next to ours
   EXPECT_NE(md.find("my, \"odd\" \\| set | 0 | – | – | – | – | – | – |"), std::string::npos) << md;
 
-  const std::string csv = slurp(scratch.file("table1.csv"));
+  const std::string csv = test::readWholeFile(scratch.file("table1.csv"));
   std::istringstream lines(csv);
   std::vector<std::string> rows;
   for (std::string line; std::getline(lines, line);) rows.push_back(line);
@@ -275,7 +250,7 @@ TEST(TableWriters, WritesAllFourFiles) {
   EXPECT_EQ(rows[2], "\"my, \"\"odd\"\" | set\",0,,,,,0,0,0,0,,,,");
   EXPECT_EQ(rows[3].rfind("Average,1,56,2,14,0,2,0,2,0,59,9,12,0", 0), 0u) << rows[3];
 
-  const auto table = nlohmann::json::parse(slurp(scratch.file("table1.json")));
+  const auto table = nlohmann::json::parse(test::readWholeFile(scratch.file("table1.json")));
   ASSERT_EQ(table["rows"].size(), 2u);
   EXPECT_TRUE(table["fingers"].is_null());
   EXPECT_EQ(table["rows"][0]["dataset"], "cup_sr4000_A");
@@ -285,7 +260,7 @@ TEST(TableWriters, WritesAllFourFiles) {
   EXPECT_TRUE(table["rows"][1]["paper"].is_null());
   EXPECT_EQ(table["average"]["dataset"], "Average");
 
-  const auto eligibility = nlohmann::json::parse(slurp(scratch.file("eligibility.json")));
+  const auto eligibility = nlohmann::json::parse(test::readWholeFile(scratch.file("eligibility.json")));
   EXPECT_EQ(eligibility["overall"]["all"]["grasps"].get<int>(), 3);
   EXPECT_NEAR(eligibility["overall"]["all"]["filtered_eligible_percent"].get<double>(), 200.0 / 3.0, 1e-12);
   EXPECT_NEAR(eligibility["overall"]["all"]["raw_eligible_percent"].get<double>(), 100.0 / 3.0, 1e-12);
@@ -296,7 +271,7 @@ TEST(TableWriters, WritesAllFourFiles) {
 
   // Nothing but the four outputs is left behind (no temporaries).
   std::size_t files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(scratch.dir())) {
+  for (const auto& entry : std::filesystem::directory_iterator(scratch.path().string())) {
     (void)entry;
     ++files;
   }
@@ -304,8 +279,8 @@ TEST(TableWriters, WritesAllFourFiles) {
 
   // Deterministic: writing again gives the same bytes.
   const std::string before = md + csv;
-  writeResultsTables(scratch.dir(), records);
-  EXPECT_EQ(slurp(scratch.file("table1.md")) + slurp(scratch.file("table1.csv")), before);
+  writeResultsTables(scratch.path().string(), records);
+  EXPECT_EQ(test::readWholeFile(scratch.file("table1.md")) + test::readWholeFile(scratch.file("table1.csv")), before);
 }
 
 }  // namespace
