@@ -65,6 +65,19 @@ VertexAdjacency vertexAdjacency(const TriangleMesh& mesh) {
   return adjacency;
 }
 
+VertexFaces vertexFaces(const TriangleMesh& mesh) {
+  VertexFaces incidence;
+  incidence.offsets.assign(mesh.vertexCount() + 1, 0);
+  for (const Triangle& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) ++incidence.offsets[static_cast<std::size_t>(f[k]) + 1];
+  std::partial_sum(incidence.offsets.begin(), incidence.offsets.end(), incidence.offsets.begin());
+  incidence.faces.resize(incidence.offsets.back());
+  std::vector<std::size_t> next(incidence.offsets.begin(), incidence.offsets.end() - 1);
+  for (std::size_t i = 0; i < mesh.faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) incidence.faces[next[static_cast<std::size_t>(mesh.faces[i][k])]++] = static_cast<int>(i);
+  return incidence;
+}
+
 std::vector<double> faceAreas(const TriangleMesh& mesh) {
   std::vector<double> areas(mesh.faces.size());
   const auto& p = mesh.vertices.positions;

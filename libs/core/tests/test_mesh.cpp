@@ -50,6 +50,19 @@ TEST(MeshTopology, AdjacencyOfTwoTriangles) {
   EXPECT_EQ(a.degree(4), 0u);
 }
 
+TEST(MeshTopology, FacesOfEachVertex) {
+  TriangleMesh m;
+  m.vertices.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {5, 5, 5}};
+  m.faces = {Triangle(0, 1, 2), Triangle(0, 2, 3)};
+  const VertexFaces f = vertexFaces(m);
+  ASSERT_EQ(f.offsets.size(), 6u);
+  EXPECT_EQ(std::vector<int>(f.begin(0), f.end(0)), (std::vector<int>{0, 1}));
+  EXPECT_EQ(std::vector<int>(f.begin(1), f.end(1)), (std::vector<int>{0}));
+  EXPECT_EQ(std::vector<int>(f.begin(2), f.end(2)), (std::vector<int>{0, 1}));
+  EXPECT_EQ(std::vector<int>(f.begin(3), f.end(3)), (std::vector<int>{1}));
+  EXPECT_EQ(f.begin(4), f.end(4));
+}
+
 TEST(MeshTopology, AreasEdgesAndComponents) {
   TriangleMesh t = tetrahedron();
   const auto areas = faceAreas(t);

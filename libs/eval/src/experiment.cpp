@@ -98,6 +98,7 @@ struct DatasetExperiment::Impl {
   CadToScanMapping to_raw;
   CadToScanMapping to_filtered;
   IntersectionEstimator estimator;
+  VertexFaces raw_faces, filtered_faces;
   RegionQualityEvaluator quality;
   struct TestSet {
     std::size_t fingers;
@@ -116,12 +117,14 @@ struct DatasetExperiment::Impl {
         to_raw(*m.raw, c.mapping),
         to_filtered(*m.filtered, c.mapping),
         estimator(*m.cad, c.mapping),
+        raw_faces(vertexFaces(*m.raw)),
+        filtered_faces(vertexFaces(*m.filtered)),
         quality(*m.cad, RegionQualityParameters{c.metric, c.paths}) {}
 
   MeshOutcome transfer(const std::vector<int>& cad_contacts, double tws_radius, const CadToScanMapping& mapping,
                        const icr::GraspableObject& object) const;
   RegionComparison compare(const std::vector<int>& cad_region, const CadRegionSummary& cad_summary,
-                           const TriangleMesh& scan,
+                           const TriangleMesh& scan, const VertexFaces& scan_faces,
                            const std::vector<int>& scan_region, DistanceWorkspace& workspace) const;
   GraspRecord evaluate(std::size_t set, std::size_t index, DistanceWorkspace& workspace) const;
 };
@@ -164,9 +167,10 @@ MeshOutcome DatasetExperiment::Impl::transfer(const std::vector<int>& cad_contac
 
 RegionComparison DatasetExperiment::Impl::compare(const std::vector<int>& cad_region,
                                                   const CadRegionSummary& cad_summary, const TriangleMesh& scan,
+                                                  const VertexFaces& scan_faces,
                                                   const std::vector<int>& scan_region,
                                                   DistanceWorkspace& workspace) const {
-  const RegionIntersection intersection = estimator.estimate(cad_region, scan, scan_region);
+  const RegionIntersection intersection = estimator.estimate(cad_region, scan, scan_faces, scan_region);
   RegionComparison c;
   c.vertices = scan_region.size();
   c.area_m2 = intersection.scan_region_area_m2;
@@ -211,9 +215,9 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
     const std::vector<int>& cad_region = cad.regions[n].vertices;
     const CadRegionSummary summary = quality.summarize(cad_region, workspace);
     record.cad_region_areas_m2.push_back(cad.regions[n].area_m2);
-    record.raw.regions.push_back(compare(cad_region, summary, *meshes.raw, raw.regions[n].vertices, workspace));
+    record.raw.regions.push_back(compare(cad_region, summary, *meshes.raw, raw_faces, raw.regions[n].vertices, workspace));
     record.filtered.regions.push_back(
-        compare(cad_region, summary, *meshes.filtered, filtered.regions[n].vertices, workspace));
+        compare(cad_region, summary, *meshes.filtered, filtered_faces, filtered.regions[n].vertices, workspace));
   }
   return record;
 }

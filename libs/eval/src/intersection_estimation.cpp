@@ -47,22 +47,21 @@ std::vector<std::uint8_t> regionFaceMask(const TriangleMesh& mesh, const std::ve
 }
 
 IntersectionEstimator::IntersectionEstimator(const TriangleMesh& cad, const MappingParameters& params)
-    : cad_(&cad), mapping_(cad, params), cad_face_areas_(faceAreas(cad)) {
-  vertex_face_offsets_.assign(cad.vertexCount() + 1, 0);
-  for (const Triangle& f : cad.faces)
-    for (int k = 0; k < 3; ++k) ++vertex_face_offsets_[static_cast<std::size_t>(f[k]) + 1];
-  for (std::size_t v = 0; v < cad.vertexCount(); ++v) vertex_face_offsets_[v + 1] += vertex_face_offsets_[v];
-  vertex_faces_.resize(vertex_face_offsets_.back());
-  std::vector<std::size_t> fill(vertex_face_offsets_.begin(), vertex_face_offsets_.end() - 1);
-  for (std::size_t i = 0; i < cad.faces.size(); ++i)
-    for (int k = 0; k < 3; ++k) vertex_faces_[fill[static_cast<std::size_t>(cad.faces[i][k])]++] = static_cast<int>(i);
+    : cad_(&cad), mapping_(cad, params), cad_face_areas_(faceAreas(cad)), cad_faces_of_vertex_(vertexFaces(cad)) {}
+
+RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_region, const TriangleMesh& scan,
+                                                   const std::vector<int>& scan_region) const {
+  return estimate(cad_region, scan, vertexFaces(scan), scan_region);
 }
 
 RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_region, const TriangleMesh& scan,
+                                                   const VertexFaces& scan_faces,
                                                    const std::vector<int>& scan_region) const {
   const TriangleMesh& cad = *cad_;
   const auto cad_in = membership(cad.vertexCount(), cad_region, "CAD region");
   const auto scan_in = membership(scan.vertexCount(), scan_region, "scan region");
+  if (scan_faces.offsets.size() != scan.vertexCount() + 1)
+    throw InputError("intersection estimation", "scan faces", "the vertex-face incidence is not the scan mesh's");
   const FaceMask cad_faces = regionFaceMask(cad, cad_in);
 
   RegionIntersection result;
@@ -97,14 +96,13 @@ RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_r
     for (const RayHit& hit : caster.allHitsOnLine(origin, direction))
       if (std::abs(hit.distance) <= reach) seeds.push_back(hit.face);
     const auto mapped = static_cast<std::size_t>(image);
-    for (std::size_t j = vertex_face_offsets_[mapped]; j < vertex_face_offsets_[mapped + 1]; ++j)
-      seeds.push_back(vertex_faces_[j]);
+    seeds.insert(seeds.end(), cad_faces_of_vertex_.begin(mapped), cad_faces_of_vertex_.end(mapped));
     for (const int seed : seeds) {
       const Triangle& seed_face = cad.faces[static_cast<std::size_t>(seed)];
       for (int k = 0; k < 3; ++k) {
         const auto corner = static_cast<std::size_t>(seed_face[k]);
-        for (std::size_t j = vertex_face_offsets_[corner]; j < vertex_face_offsets_[corner + 1]; ++j) {
-          const auto face = static_cast<std::size_t>(vertex_faces_[j]);
+        for (const int* j = cad_faces_of_vertex_.begin(corner); j != cad_faces_of_vertex_.end(corner); ++j) {
+          const auto face = static_cast<std::size_t>(*j);
           if (!cad_faces[face]) continue;
           const Triangle& f = cad.faces[face];
           double t = 0.0;
@@ -124,12 +122,25 @@ RegionIntersection IntersectionEstimator::estimate(const std::vector<int>& cad_r
       result.intersection_area_m2 += cad_face_areas_[i];
     }
 
-  // Outside-ness per scan vertex, then each region triangle's area in thirds.
+  // Outside-ness per scan vertex, then each region triangle's area in
+  // thirds. The region's triangles are found through its own vertices (each
+  // at its lowest corner) and summed in face order, as a pass over all faces
+  // would, without one.
   std::vector<std::uint8_t> outside(scan.vertexCount(), 0);
   for (std::size_t i = 0; i < scan_region.size(); ++i)
     if (!result.inside[i]) outside[static_cast<std::size_t>(scan_region[i])] = 1;
-  for (const Triangle& f : scan.faces) {
-    if (!(scan_in[f[0]] && scan_in[f[1]] && scan_in[f[2]])) continue;
+  std::vector<int> region_faces;
+  for (const int v : scan_region) {
+    const auto u = static_cast<std::size_t>(v);
+    for (const int* j = scan_faces.begin(u); j != scan_faces.end(u); ++j) {
+      const Triangle& f = scan.faces[static_cast<std::size_t>(*j)];
+      if (f.minCoeff() == v && scan_in[f[0]] && scan_in[f[1]] && scan_in[f[2]]) region_faces.push_back(*j);
+    }
+  }
+  std::sort(region_faces.begin(), region_faces.end());
+  region_faces.erase(std::unique(region_faces.begin(), region_faces.end()), region_faces.end());
+  for (const int face : region_faces) {
+    const Triangle& f = scan.faces[static_cast<std::size_t>(face)];
     const double area = triangleArea(scan, f);
     result.scan_region_area_m2 += area;
     const int outside_corners = outside[f[0]] + outside[f[1]] + outside[f[2]];

@@ -23,6 +23,18 @@ struct VertexAdjacency {
 
 VertexAdjacency vertexAdjacency(const TriangleMesh& mesh);
 
+/// Vertex -> the faces that use it, in compressed rows; each row ascending
+/// (a face that repeats a vertex is listed once per use).
+struct VertexFaces {
+  std::vector<std::size_t> offsets;  ///< size vertexCount + 1
+  std::vector<int> faces;
+
+  const int* begin(std::size_t v) const { return faces.data() + offsets[v]; }
+  const int* end(std::size_t v) const { return faces.data() + offsets[v + 1]; }
+};
+
+VertexFaces vertexFaces(const TriangleMesh& mesh);
+
 /// Area of every face (m^2); degenerate faces have area 0.
 std::vector<double> faceAreas(const TriangleMesh& mesh);
 double surfaceArea(const TriangleMesh& mesh);

@@ -19,6 +19,7 @@
 /// corners, i.e. sum over region triangles of area * (outside corners) / 3,
 /// reported as a percentage of A(C_n^C) like Int (docs/evaluation.md).
 
+#include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
 #include <icrkit/eval/normal_line_mappings.hpp>
 
@@ -47,6 +48,10 @@ public:
   /// Throws InputError for an out-of-range vertex in either region.
   RegionIntersection estimate(const std::vector<int>& cad_region, const TriangleMesh& scan,
                               const std::vector<int>& scan_region) const;
+  /// The same with the scan's vertexFaces() computed once by the caller, so
+  /// that a call costs the regions' size rather than the scan mesh's.
+  RegionIntersection estimate(const std::vector<int>& cad_region, const TriangleMesh& scan,
+                              const VertexFaces& scan_faces, const std::vector<int>& scan_region) const;
 
   const ScanToCadMapping& scanToCad() const { return mapping_; }
   const std::vector<double>& cadFaceAreas() const { return cad_face_areas_; }
@@ -55,8 +60,7 @@ private:
   const TriangleMesh* cad_;
   ScanToCadMapping mapping_;
   std::vector<double> cad_face_areas_;
-  std::vector<std::size_t> vertex_face_offsets_;  ///< CAD vertex -> incident faces, compressed rows
-  std::vector<int> vertex_faces_;
+  VertexFaces cad_faces_of_vertex_;
 };
 
 /// Faces whose three vertices are all flagged in `vertex_in_region`.
