@@ -8,7 +8,7 @@ set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/cli_common.sh"
 
 expect_exit 0 "$ICRKIT" reconstruct --help
-for option in --poses --gt-poses --crop --no-registration --voxel --smoothing-radius; do
+for option in --poses --gt-poses --crop --no-registration --voxel --smoothing-radius --board-square --board-origin; do
   grep -q -- "$option" "$work/out" || fail "reconstruct --help lacks $option"
 done
 expect_exit 0 "$ICRKIT" --help
@@ -72,7 +72,28 @@ for r, w in zip(reported, written):
     assert all(abs(float(a) - float(b)) < 1e-9 for a, b in zip(r[:3], w[:3])), (r, w)
 " || fail "--no-registration changed the poses"
 
+# Setup B: the cup stands on the simulator's plate (2 cm squares, lines on
+# the object frame's axes, 0.1 mm below the base); its poses anchor the registration.
+"$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/board" --no-meshes --json -q --board-square 0.02 \
+  --board-origin 0,0,-0.0001 --gt-poses "$work/cup/ground_truth.txt" >"$work/board.json" 2>"$work/err" ||
+  fail "reconstruct --board-square failed: $(cat "$work/err")"
+py "
+import json
+s = json.load(open('$work/board.json'))
+b = s['board']
+assert b['square_m'] == 0.02 and b['origin_m'] == [0, 0, -0.0001], b
+assert b['poses_from_board'] >= 6, b
+found = [scan['board']['found'] for scan in s['per_scan']]
+assert sum(found) == b['poses_from_board'] and len(found) == 8, found
+assert all(scan['board']['corners'] >= 12 for scan in s['per_scan'] if scan['board']['found'])
+plain = json.load(open('$work/rec.json'))
+assert plain['board'] is None and 'board' not in plain['per_scan'][0]
+" || fail "--board-square summary wrong"
+
 # Bad input: one line naming the file (and scan), exit 2, no output directory.
+expect_input_error "--board-square" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad8" --board-square -0.02
+expect_input_error "--board-origin" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad9" \
+  --board-square 0.02 --board-origin 0,0
 expect_input_error "missing.rawlog" "$ICRKIT" reconstruct "$work/missing.rawlog" -o "$work/bad1"
 [ ! -e "$work/bad1" ] || fail "a failed run created its output directory"
 head -c 20000 "$work/cup/scans.rawlog" >"$work/truncated.rawlog"

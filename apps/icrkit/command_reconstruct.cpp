@@ -43,6 +43,8 @@ struct ReconstructOptions {
   double voxel = 0.004;
   std::string smoothing_radius = "4x";
   int passes = 1;
+  double board_square = 0.0;
+  std::string board_origin = "0,0,0";
 };
 
 Eigen::AlignedBox3d parseBox(const std::string& option, const std::string& text) {
@@ -87,6 +89,18 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   params.auto_crop_half_size = options.crop_size;
   params.remove_support_plane = !options.no_plane;
   params.register_scans = !options.no_registration;
+  if (options.board_square != 0.0) {
+    if (!(options.board_square > 0) || !std::isfinite(options.board_square))
+      throw InputError("--board-square", "", "expected the checkerboard's square size in metres (> 0)");
+    reconstruction::BoardLattice board;
+    board.square_size = options.board_square;
+    const std::vector<std::string> items = split(options.board_origin, ',');
+    if (items.size() != 3) throw InputError("--board-origin", "", "expected x,y,z in metres, got '" + options.board_origin + "'");
+    for (int k = 0; k < 3; ++k)
+      if (!parseNumber(items[static_cast<std::size_t>(k)], board.origin[k]))
+        throw InputError("--board-origin", "", "'" + items[static_cast<std::size_t>(k)] + "' is not a number");
+    params.board = board;
+  }
   params.jump_edge_filter = !options.no_jump_edges;
   params.make_meshes = !options.no_meshes;
   if (options.min_confidence < 0 || options.min_confidence > 255)
@@ -149,6 +163,10 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
                         {"support_plane_found", f.plane_found},
                         {"object_points", f.object_points},
                         {"fused_points", i < result.fusion.kept_per_scan.size() ? result.fusion.kept_per_scan[i] : 0}};
+    if (i < result.board_poses.size()) {
+      const reconstruction::LatticePose& b = result.board_poses[i];
+      scan["board"] = {{"found", b.found}, {"corners", b.corners}, {"rms_px", b.rms_px}};
+    }
     if (i < records.size()) {
       const reconstruction::ScanRegistrationRecord& r = records[i];
       scan["registration"] = {{"registered", r.registered},
@@ -175,6 +193,11 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
       {"crop_box_automatic", result.crop_box_automatic},
       {"scan_spacing_m", result.scan_spacing_m},
       {"range_correction", options.range_correction.empty() ? nlohmann::json(nullptr) : nlohmann::json(options.range_correction)},
+      {"board",
+       params.board ? nlohmann::json{{"square_m", params.board->square_size},
+                                     {"origin_m", {params.board->origin.x(), params.board->origin.y(), params.board->origin.z()}},
+                                     {"poses_from_board", result.poses_from_board}}
+                    : nlohmann::json(nullptr)},
       {"registration",
        {{"enabled", params.register_scans},
         {"registered_scans", [&] {
@@ -282,6 +305,13 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
       ->capture_default_str();
   command->add_flag("--no-plane-removal", options->no_plane, "Keep the support plane (table, plate)");
   command->add_flag("--no-registration", options->no_registration, "Fuse at the reported poses");
+  command->add_option("--board-square", options->board_square,
+                      "Setup B: the object stands on a checkerboard with squares of this size (metres) whose lines "
+                      "lie on the object frame's x and y axes; each scan's pose relative to the board, found in its "
+                      "intensity image, replaces the reported pose as registration start and prior (docs/calibration.md)");
+  command->add_option("--board-origin", options->board_origin,
+                      "A corner of the checkerboard, object frame (x,y,z metres)")
+      ->capture_default_str();
   command->add_flag("--no-jump-edges", options->no_jump_edges, "Keep jump-edge (flying) pixels");
   command->add_flag("--no-meshes", options->no_meshes, "Stop after the fused cloud");
   command->add_option("--min-confidence", options->min_confidence, "Drop pixels below this confidence (0-255; 0 = off)")

@@ -123,6 +123,12 @@ void KdTree::indicesWithinRadius(const Eigen::Vector3d& query, double radius, st
   std::sort(out.begin(), out.end());
 }
 
+void KdTree::indicesWithinRadiusInTreeOrder(const Eigen::Vector3d& query, double radius,
+                                            std::vector<std::size_t>& out) const {
+  out.clear();
+  impl_->radiusSearch(query, radius, nullptr, &out);
+}
+
 std::size_t KdTree::countWithinRadius(const Eigen::Vector3d& query, double radius) const {
   return impl_->radiusSearch(query, radius, nullptr);
 }

@@ -104,6 +104,14 @@ TEST(KdTree, AgreesWithBruteForceOnRandomPoints) {
       }
       std::sort(expected.begin(), expected.end());
       ASSERT_EQ(tree.countWithinRadius(q, radius), expected.size());
+      std::vector<std::size_t> ascending, tree_order, again;
+      tree.indicesWithinRadius(q, radius, ascending);
+      tree.indicesWithinRadiusInTreeOrder(q, radius, tree_order);
+      tree.indicesWithinRadiusInTreeOrder(q, radius, again);
+      EXPECT_TRUE(std::is_sorted(ascending.begin(), ascending.end()));
+      EXPECT_EQ(tree_order, again);  // the same order on every call
+      std::sort(tree_order.begin(), tree_order.end());
+      EXPECT_EQ(tree_order, ascending);
       const auto within = tree.withinRadius(q, radius);
       ASSERT_EQ(within.size(), expected.size());
       for (std::size_t i = 0; i < within.size(); ++i) {

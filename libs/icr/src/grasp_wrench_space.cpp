@@ -118,10 +118,27 @@ static GraspWrenchSpace buildHull(const WrenchSet& wrenches, const std::string& 
   return gws;
 }
 
+bool hullContains(const GraspWrenchSpace& gws, const WrenchSet& wrenches, double relative_tolerance) {
+  if (gws.facetCount() == 0 || wrenches.cols() == 0) return true;
+  const double scale = wrenches.colwise().norm().maxCoeff();
+  const double tolerance = relative_tolerance * std::max(scale, 1e-300);
+  for (Eigen::Index f = 0; f < gws.normals.cols(); ++f) {
+    const double limit = tolerance - gws.offsets[static_cast<std::size_t>(f)];
+    if ((gws.normals.col(f).transpose() * wrenches).maxCoeff() > limit) return false;
+  }
+  return true;
+}
+
 GraspWrenchSpace computeGraspWrenchSpace(const WrenchSet& wrenches, const HullParameters& params) {
   bool qhull_failed = false;
   GraspWrenchSpace gws = buildHull(wrenches, params.qhull_options, params.force_closure_threshold, qhull_failed);
-  if (qhull_failed && !params.fallback_options.empty() && params.fallback_options != params.qhull_options) {
+  const bool retry_possible = !params.fallback_options.empty() && params.fallback_options != params.qhull_options;
+  // Without merging, qhull can keep a facet that a nearly coplanar wrench
+  // lies beyond; one pass over all facets and wrenches (cheap next to the
+  // hull) finds it.
+  if (retry_possible && !qhull_failed && !hullContains(gws, wrenches, params.convexity_tolerance))
+    qhull_failed = true;
+  if (qhull_failed && retry_possible) {
     qhull_failed = false;
     gws = buildHull(wrenches, params.fallback_options, params.force_closure_threshold, qhull_failed);
   }

@@ -1,6 +1,7 @@
 #include <icrkit/icr/search_zones.hpp>
 
 #include <algorithm>
+#include <cstdint>
 
 namespace icrkit::icr {
 
@@ -20,25 +21,27 @@ SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpac
 
   zones.by_finger.assign(finger_count, {});
   zones.finger_facets.assign(finger_count, {});
+  // A facet is listed once per finger however many of its zones use it; the
+  // marks keep the lists ascending without sorting.
+  std::vector<std::uint8_t> used_by(facet_count * finger_count, 0);
   for (int v : gws.hull_vertices) {
     const std::size_t finger = static_cast<std::size_t>(v) / wrenches_per_contact;
     if (finger >= finger_count || incident[static_cast<std::size_t>(v)].empty()) continue;
     SearchZone zone;
     zone.hull_vertex = v;
-    zone.facets = incident[static_cast<std::size_t>(v)];
-    auto& used = zones.finger_facets[finger];
-    used.insert(used.end(), zone.facets.begin(), zone.facets.end());
+    zone.facets = std::move(incident[static_cast<std::size_t>(v)]);
+    for (int f : zone.facets) used_by[static_cast<std::size_t>(f) * finger_count + finger] = 1;
     zones.by_finger[finger].push_back(std::move(zone));
   }
-  for (auto& used : zones.finger_facets) {
-    std::sort(used.begin(), used.end());
-    used.erase(std::unique(used.begin(), used.end()), used.end());
-  }
+  for (std::size_t f = 0; f < facet_count; ++f)
+    for (std::size_t finger = 0; finger < finger_count; ++finger)
+      if (used_by[f * finger_count + finger]) zones.finger_facets[finger].push_back(static_cast<int>(f));
   return zones;
 }
 
 ZoneTester::ZoneTester(const SearchZones& zones) {
   fingers_.resize(zones.by_finger.size());
+  std::vector<int> row_of(zones.thresholds.size(), -1);
   for (std::size_t finger = 0; finger < zones.by_finger.size(); ++finger) {
     const std::vector<int>& facets = zones.finger_facets[finger];
     FingerFacets& local = fingers_[finger];
@@ -47,32 +50,27 @@ ZoneTester::ZoneTester(const SearchZones& zones) {
     for (std::size_t r = 0; r < facets.size(); ++r) {
       local.normals.row(static_cast<Eigen::Index>(r)) = zones.normals.col(facets[r]).transpose();
       local.thresholds(static_cast<Eigen::Index>(r)) = zones.thresholds[static_cast<std::size_t>(facets[r])];
+      row_of[static_cast<std::size_t>(facets[r])] = static_cast<int>(r);
     }
     for (const SearchZone& zone : zones.by_finger[finger]) {
-      std::vector<int> rows;
-      for (int f : zone.facets)
-        rows.push_back(static_cast<int>(std::lower_bound(facets.begin(), facets.end(), f) - facets.begin()));
+      std::vector<int> rows(zone.facets.size());
+      for (std::size_t k = 0; k < zone.facets.size(); ++k) rows[k] = row_of[static_cast<std::size_t>(zone.facets[k])];
       local.zone_rows.push_back(std::move(rows));
     }
     local.last_wrench.assign(local.zone_rows.size(), 0);
   }
 }
 
-double ZoneTester::product(const FingerFacets& local, int row, Eigen::Index wrench, const WrenchSet& wrenches) {
-  const std::size_t slot = static_cast<std::size_t>(row) * static_cast<std::size_t>(wrenches.cols()) +
-                           static_cast<std::size_t>(wrench);
-  if (stamp_[slot] != generation_) {
-    stamp_[slot] = generation_;
-    products_[slot] = local.normals.row(row).dot(wrenches.col(wrench));
-  }
-  return products_[slot];
-}
-
 bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches) {
   std::vector<int>& rows = local.zone_rows[zone];
+  const double* w = wrenches.data() + 6 * wrench;
+  const double* normals = local.normals.data();
+  const double* thresholds = local.thresholds.data();
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const int r = rows[k];
-    if (product(local, r, wrench, wrenches) < local.thresholds(r)) {
+    const double* n = normals + 6 * r;
+    const double d = n[0] * w[0] + n[1] * w[1] + n[2] * w[2] + n[3] * w[3] + n[4] * w[4] + n[5] * w[5];
+    if (d < thresholds[r]) {
       if (k > 0) std::swap(rows[k], rows[0]);
       return false;
     }
@@ -83,16 +81,6 @@ bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrenc
 bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches) {
   FingerFacets& local = fingers_[finger];
   const Eigen::Index n = wrenches.cols();
-  const std::size_t slots = static_cast<std::size_t>(local.normals.rows()) * static_cast<std::size_t>(n);
-  if (stamp_.size() < slots) {
-    stamp_.assign(slots, 0);
-    products_.resize(slots);
-    generation_ = 0;
-  }
-  if (++generation_ == 0) {  // wrapped: forget every stamp
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    generation_ = 1;
-  }
   for (std::size_t z = 0; z < local.zone_rows.size(); ++z) {
     const Eigen::Index first = local.last_wrench[z] < n ? local.last_wrench[z] : 0;
     bool held = holds(local, z, first, wrenches);

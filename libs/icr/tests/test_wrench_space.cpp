@@ -182,26 +182,41 @@ TEST(SearchZones, EachHullVertexOwnsItsIncidentFacets) {
   EXPECT_FALSE(tester.qualifies(1, near_vertex));
 }
 
-TEST(GraspWrenchSpace, OptionalFastHullGivesTheSameEpsilon) {
-  HullParameters fast;
-  fast.qhull_options = "Q0";
-  fast.fallback_options = "Qt Qx";
+TEST(GraspWrenchSpace, ContainmentCheckFindsAWrenchBeyondAFacet) {
+  const WrenchSet vertices = crossPolytope();
+  const GraspWrenchSpace gws = computeGraspWrenchSpace(vertices);
+  ASSERT_TRUE(gws.force_closure);
+  EXPECT_TRUE(hullContains(gws, vertices));
+  WrenchSet probe = WrenchSet::Zero(6, 2);
+  probe(0, 0) = 0.5;
+  probe(3, 1) = -1.0;
+  EXPECT_TRUE(hullContains(gws, probe));
+  probe(3, 1) = -1.001;
+  EXPECT_FALSE(hullContains(gws, probe));
+  EXPECT_TRUE(hullContains(gws, probe, 1e-2));
+}
+
+TEST(GraspWrenchSpace, UnmergedDefaultHullGivesTheSameEpsilonAsMergedHull) {
+  HullParameters merged_only;
+  merged_only.qhull_options = "Qt Qx";
+  merged_only.fallback_options.clear();
   std::mt19937 rng(9);
   std::normal_distribution<double> g;
   for (int trial = 0; trial < 20; ++trial) {
     WrenchSet w(6, 36);
     for (Eigen::Index i = 0; i < w.size(); ++i) w.data()[i] = g(rng);
-    const GraspWrenchSpace merged = computeGraspWrenchSpace(w);
-    const GraspWrenchSpace unmerged = computeGraspWrenchSpace(w, fast);
+    const GraspWrenchSpace merged = computeGraspWrenchSpace(w, merged_only);
+    const GraspWrenchSpace unmerged = computeGraspWrenchSpace(w);
     EXPECT_EQ(merged.qhull_options, "Qt Qx");
     EXPECT_EQ(unmerged.qhull_options, "Q0");
     EXPECT_EQ(merged.force_closure, unmerged.force_closure);
     EXPECT_NEAR(merged.epsilon, unmerged.epsilon, 1e-12);
     EXPECT_EQ(merged.hull_vertices, unmerged.hull_vertices);
+    EXPECT_EQ(merged.facetCount(), unmerged.facetCount());
   }
   // A degenerate set fails both attempts and reports the last one.
   WrenchSet flat = crossPolytope().leftCols(10);
-  const GraspWrenchSpace none = computeGraspWrenchSpace(flat, fast);
+  const GraspWrenchSpace none = computeGraspWrenchSpace(flat);
   EXPECT_FALSE(none.force_closure);
   EXPECT_EQ(none.qhull_options, "Qt Qx");
 }

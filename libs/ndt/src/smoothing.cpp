@@ -7,6 +7,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -41,11 +43,37 @@ struct PassOutput {
   std::vector<Eigen::Vector3d> normals;
   std::vector<int> cardinality;
   std::vector<double> flatness;
+  NeighbourGraph graph;  // the nearest points of each window, when asked for
 };
+
+// Writes the `slots` points of `window` nearest to input[i] (itself left
+// out; ties in window order) into the graph's row i.
+void keepNearest(const std::vector<Eigen::Vector3d>& input, std::size_t i, const std::vector<std::size_t>& window,
+                 NeighbourGraph& graph) {
+  constexpr std::size_t kMaxSlots = 32;
+  const std::size_t slots = std::min(graph.slots, kMaxSlots);
+  std::array<double, kMaxSlots> distance;
+  std::array<std::size_t, kMaxSlots> index;
+  std::size_t kept = 0;
+  for (std::size_t j : window) {
+    if (j == i) continue;
+    const double d = (input[j] - input[i]).squaredNorm();
+    if (kept == slots && !(d < distance[kept - 1])) continue;
+    std::size_t at = kept < slots ? kept++ : kept - 1;
+    while (at > 0 && d < distance[at - 1]) {
+      distance[at] = distance[at - 1];
+      index[at] = index[at - 1];
+      --at;
+    }
+    distance[at] = d;
+    index[at] = j;
+  }
+  for (std::size_t s = 0; s < kept; ++s) graph.neighbours[i * graph.slots + s] = index[s];
+}
 
 // One Jacobi pass: every window is taken from `input`.
 PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radius, double flatness_floor,
-                         const ProgressCallback& progress, const std::string& stage) {
+                         std::size_t graph_slots, const ProgressCallback& progress, const std::string& stage) {
   const std::size_t n = input.size();
   const KdTree tree(input);
   PassOutput out;
@@ -53,21 +81,27 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
   out.normals.assign(n, Eigen::Vector3d::Zero());
   out.cardinality.resize(n);
   out.flatness.assign(n, 0.0);
+  out.graph.slots = graph_slots;
+  out.graph.neighbours.assign(n * graph_slots, n);
   std::atomic<std::size_t> done{0};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
     std::vector<std::size_t> window;  // one buffer per task, reused for every point
     window.reserve(256);
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       const Eigen::Vector3d& p = input[i];
-      tree.indicesWithinRadius(p, radius, window);
+      // The tree's order, not sorted (the sort was 8 % of the call): fixed for
+      // a given cloud, so the sums below have the same bits on every run and
+      // thread count.
+      tree.indicesWithinRadiusInTreeOrder(p, radius, window);
       const std::size_t count = window.size();
       out.cardinality[i] = static_cast<int>(count);
+      if (graph_slots > 0) keepNearest(input, i, window, out.graph);
       if (count < 3) {
         out.positions[i] = p;
         continue;
       }
       // Mean and covariance about the query point (shifted data keeps the
-      // sums small and exact-ish), in index order.
+      // sums small and exact-ish).
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
       for (std::size_t j : window) {
@@ -108,8 +142,15 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
   std::vector<int> cardinality;
   std::vector<double> flat;
   std::vector<Eigen::Vector3d> normals;
+  // Without a viewpoint, normals are oriented over a neighbour graph; the
+  // last pass's windows hold each point's nearest neighbours already, so the
+  // graph costs no second k-d tree and no k-NN queries.
+  const std::size_t graph_slots = params.viewpoint ? 0 : NormalOrientationParameters{}.neighbours;
+  NeighbourGraph graph;
   for (int pass = 0; pass < params.passes; ++pass) {
-    PassOutput out = smoothingPass(cloud.positions, summary.radius_m, params.flatness_floor, progress,
+    const bool last = pass + 1 == params.passes;
+    PassOutput out = smoothingPass(cloud.positions, summary.radius_m, params.flatness_floor, last ? graph_slots : 0,
+                                   progress,
                                    "smoothing pass " + std::to_string(pass + 1) + "/" + std::to_string(params.passes));
     if (pass == 0) {
       cardinality = std::move(out.cardinality);
@@ -117,6 +158,7 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
     }
     cloud.positions = std::move(out.positions);
     normals = std::move(out.normals);
+    if (last) graph = std::move(out.graph);
   }
   // A window of fewer than 3 points has no plane: such a point keeps the
   // normal it came with (a fused cloud's, say) rather than none at all.
@@ -124,7 +166,10 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
     for (std::size_t i = 0; i < n; ++i)
       if (normals[i].squaredNorm() == 0.0) normals[i] = cloud.normals[i];
   cloud.normals = std::move(normals);
-  orientNormals(cloud, params.viewpoint);
+  if (params.viewpoint)
+    orientNormals(cloud, params.viewpoint);
+  else
+    orientNormalsOverGraph(cloud, graph);
 
   // Serial sums in index order: the same bits whatever the thread count.
   double cardinality_sum = 0, flatness_sum = 0, displacement_sum = 0;

@@ -81,13 +81,21 @@ void orientTowardsViewpoints(PointCloud& cloud, const std::vector<Eigen::Vector3
 
 // Scan i of a pass over the rawlog, filtered (see filterScan), with the
 // reading and filtering times added to `times`.
+// With `board_pose`, the checkerboard pose is taken from the scan as read
+// (before any filter touches its range image).
 RangeScan nextFilteredScan(RawlogReader& reader, const std::string& rawlog, std::size_t i,
                            const ReconstructionParameters& params, const Eigen::AlignedBox3d& box,
-                           std::vector<std::uint8_t>& object, ScanFilterRecord& record, ReconstructionTimes& times) {
+                           std::vector<std::uint8_t>& object, ScanFilterRecord& record, ReconstructionTimes& times,
+                           LatticePose* board_pose = nullptr) {
   auto start = Clock::now();
   std::optional<RangeScan> scan = reader.next();
   if (!scan) throw InputError(rawlog, "scan " + std::to_string(i), "the file changed while it was being read");
   times.read_ms += msSince(start);
+  if (board_pose && params.board) {
+    start = Clock::now();
+    *board_pose = latticeCameraPose(*scan, *params.board, params.board_detection);
+    times.registration_ms += msSince(start);
+  }
   start = Clock::now();
   record = filterScan(*scan, params, box, object);
   times.filter_ms += msSince(start);
@@ -163,7 +171,18 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     for (std::size_t i = 0; i < n; ++i) {
       std::vector<std::uint8_t> object;
       ScanFilterRecord& record = result.filters.emplace_back();
-      const RangeScan scan = nextFilteredScan(reader, rawlog, i, params, result.crop_box, object, record, times);
+      LatticePose board_pose;
+      const RangeScan scan =
+          nextFilteredScan(reader, rawlog, i, params, result.crop_box, object, record, times, &board_pose);
+      std::optional<PosePrior> board_prior;
+      if (params.board) {
+        if (board_pose.found) {
+          board_prior = PosePrior{board_pose.sensor_pose, params.board_prior_sigma_translation,
+                                  params.board_prior_sigma_rotation};
+          ++result.poses_from_board;
+        }
+        result.board_poses.push_back(board_pose);
+      }
       if (record.object_points == 0)
         throw InputError(rawlog, "scan " + std::to_string(i),
                          "no points left inside the crop box after filtering (check the crop box and the poses)");
@@ -175,7 +194,7 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
       }
       if (registration) {
         const auto start = Clock::now();
-        registration->add(objectPointsInSensorFrame(scan, object), scan.sensor_pose);
+        registration->add(objectPointsInSensorFrame(scan, object), scan.sensor_pose, board_prior);
         times.registration_ms += msSince(start);
       }
       report(progress, "registration", i + 1, n);
@@ -189,6 +208,9 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     times.registration_ms += msSince(start);
   } else {
     result.poses = result.reported_poses;
+    if (params.board)
+      for (std::size_t i = 0; i < n; ++i)
+        if (result.board_poses[i].found) result.poses[i] = result.board_poses[i].sensor_pose;
   }
 
   // Pass 2: fusion of the whole scans at their registered poses.

@@ -153,6 +153,7 @@ struct SequenceRegistration::Impl {
   VoxelModel model;
   std::optional<ndt::NdtTarget> target;  // the model as of the last accepted scan
   std::vector<ScanRegistrationRecord> records;
+  std::vector<std::optional<PosePrior>> priors;  // per scan, besides the reported pose
   std::vector<std::vector<Eigen::Vector3d>> reduced;  // every scan, kept_voxel_size centroids, its own frame
   std::vector<std::vector<Eigen::Vector3d>> normals;  // of `reduced` (unoriented), for the observability
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();  // latest model_pose * initial_pose^-1
@@ -223,7 +224,8 @@ SequenceRegistration::~SequenceRegistration() = default;
 
 std::size_t SequenceRegistration::size() const { return impl_->records.size(); }
 
-const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points, const Eigen::Isometry3d& initial_pose) {
+const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points, const Eigen::Isometry3d& initial_pose,
+                                                        const std::optional<PosePrior>& prior) {
   Impl& s = *impl_;
   if (s.finished) throw std::logic_error("SequenceRegistration::add after finish()");
   const auto start = Clock::now();
@@ -234,6 +236,9 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
     if (!points.positions[i].allFinite())
       throw InputError(where, "point " + std::to_string(i), "non-finite coordinate");
   if (!finitePose(initial_pose)) throw InputError(where, "", "non-finite initial pose");
+  if (prior && (!finitePose(prior->pose) || !(prior->sigma_translation > 0) || !(prior->sigma_rotation > 0) ||
+                !std::isfinite(prior->sigma_translation) || !std::isfinite(prior->sigma_rotation)))
+    throw InputError(where, "", "expected a finite prior pose with standard deviations > 0");
 
   ScanRegistrationRecord record;
   record.index = index;
@@ -289,6 +294,7 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
   s.normals.push_back(std::move(normals));
   record.time_ms = msSince(start);
   s.time_ms += record.time_ms;
+  s.priors.push_back(prior);
   s.records.push_back(std::move(record));
   return s.records.back();
 }
@@ -468,19 +474,30 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       graph.edges.push_back(edge);
     }
   }
-  if (priors) {
-    // A world node at the identity, tied to every scan by its reported pose.
+  bool extra_priors = false;
+  for (const auto& prior : s.priors) extra_priors = extra_priors || prior.has_value();
+  if (priors || extra_priors) {
+    // A world node at the identity, tied to every scan by its reported pose
+    // and to those with another measurement of their pose by that one.
     const std::size_t world = n;
     graph.poses.push_back(Eigen::Isometry3d::Identity());
-    const Matrix6d prior_information = poseGraphInformation(params.prior_sigma_translation, params.prior_sigma_rotation);
+    const Matrix6d prior_information =
+        priors ? poseGraphInformation(params.prior_sigma_translation, params.prior_sigma_rotation) : Matrix6d::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       PoseGraphEdge edge;
       edge.from = world;
       edge.to = i;
-      edge.measurement = s.records[i].initial_pose;
-      edge.information = prior_information;
       edge.robust = false;
-      graph.edges.push_back(edge);
+      if (priors) {
+        edge.measurement = s.records[i].initial_pose;
+        edge.information = prior_information;
+        graph.edges.push_back(edge);
+      }
+      if (s.priors[i]) {
+        edge.measurement = s.priors[i]->pose;
+        edge.information = poseGraphInformation(s.priors[i]->sigma_translation, s.priors[i]->sigma_rotation);
+        graph.edges.push_back(edge);
+      }
     }
     graph.fixed = {world};
   } else {

@@ -34,6 +34,11 @@ public:
   /// `out` (cleared first; its capacity is reused, so a loop that keeps one
   /// vector per thread does not allocate once the vector is large enough).
   void indicesWithinRadius(const Eigen::Vector3d& query, double radius, std::vector<std::size_t>& out) const;
+  /// The same in the order the tree visits them: not sorted, but fixed for a
+  /// given point set and query, whatever the thread count (the tree is built
+  /// serially); saves the sort where only that determinism is needed.
+  void indicesWithinRadiusInTreeOrder(const Eigen::Vector3d& query, double radius,
+                                      std::vector<std::size_t>& out) const;
   /// Number of points with distance <= radius.
   std::size_t countWithinRadius(const Eigen::Vector3d& query, double radius) const;
 

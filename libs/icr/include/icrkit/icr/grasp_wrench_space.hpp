@@ -12,18 +12,23 @@
 namespace icrkit::icr {
 
 struct HullParameters {
-  /// qhull options. "Qt Qx" (triangulated output, exact pre-merges) is the
-  /// reference library's choice: merged hulls have fewer facets per search
-  /// zone, which keeps region growth fast. "Q0" (no pre-merging) builds the
-  /// hull in about 60 % of the time and gives the same regions on all
-  /// reference grasps, but its extra facets slow the growth of large regions
-  /// (docs/performance.md); pair it with fallback_options = "Qt Qx".
-  std::string qhull_options = "Qt Qx";
-  /// Options of a second attempt when qhull stops with the first ones (it can
-  /// give up on nearly degenerate input without merging). Empty: no retry.
-  std::string fallback_options;
+  /// qhull options of the first attempt. "Q0" (no pre-merging) builds the
+  /// hull in about 60 % of the time of qhull's default merging and gives the
+  /// same facets and regions on every reference grasp (docs/performance.md).
+  /// Without merging qhull may stop on nearly degenerate input or leave a
+  /// facet that some wrench lies beyond: both are detected (every wrench is
+  /// checked against every facet) and the hull is rebuilt with
+  /// `fallback_options`.
+  std::string qhull_options = "Q0";
+  /// Options of the second attempt: triangulated output with exact
+  /// pre-merges, the reference library's choice. Empty: no retry.
+  std::string fallback_options = "Qt Qx";
   /// The origin must be at least this far inside every facet for force closure.
   double force_closure_threshold = 1e-10;
+  /// When a fallback is set, a first-attempt hull with a wrench further than
+  /// this beyond one of its facets (relative to the largest wrench norm) is
+  /// rejected and rebuilt with the fallback options.
+  double convexity_tolerance = 1e-9;
 };
 
 struct GraspWrenchSpace {
@@ -48,5 +53,9 @@ struct GraspWrenchSpace {
 /// 7 wrenches, lower-dimensional, qhull precision failure) gives a result
 /// with force_closure = false and the reason, never an exception.
 GraspWrenchSpace computeGraspWrenchSpace(const WrenchSet& wrenches, const HullParameters& params = {});
+
+/// True when no column of `wrenches` lies beyond a facet of `gws` by more
+/// than `relative_tolerance` times the largest column norm.
+bool hullContains(const GraspWrenchSpace& gws, const WrenchSet& wrenches, double relative_tolerance = 1e-9);
 
 }  // namespace icrkit::icr

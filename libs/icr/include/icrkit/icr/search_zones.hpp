@@ -27,10 +27,12 @@ struct SearchZones {
 SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpace& tws, std::size_t finger_count,
                                std::size_t wrenches_per_contact);
 
-/// Tests candidate contacts against the zones. Facet products are computed
-/// on demand and remembered for the current candidate only, so a candidate
-/// that fails its first zone costs a handful of dot products and zones that
-/// share facets share products. Not thread-safe: use one tester per thread.
+/// Tests candidate contacts against the zones, stopping at the first facet
+/// that rejects a wrench, so a candidate that fails its first zone costs a
+/// handful of dot products. (Remembering products shared by zones of one
+/// finger was slower than recomputing them: a 6-D dot product over
+/// contiguous rows costs less than the bookkeeping.) Not thread-safe: the
+/// tester reorders its work as it goes; use one tester per thread.
 class ZoneTester {
 public:
   explicit ZoneTester(const SearchZones& zones);
@@ -40,21 +42,19 @@ public:
 
 private:
   struct FingerFacets {
-    Eigen::Matrix<double, Eigen::Dynamic, 6> normals;  // one row per facet the finger's zones use
+    // One row per facet the finger's zones use; row-major, so that a facet's
+    // normal is one contiguous 48-byte read.
+    Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> normals;
     Eigen::VectorXd thresholds;
-    std::vector<std::vector<int>> zone_rows;           // per zone, rows of `normals`
+    std::vector<std::vector<int>> zone_rows;  // per zone, rows of `normals`
     // Neighbouring candidates behave alike: each zone first tries the wrench
     // that held it last time, and a facet that rejects a wrench moves to the
     // front of its zone. Only the order of the work changes, never the answer.
     std::vector<Eigen::Index> last_wrench;
   };
-  double product(const FingerFacets& local, int row, Eigen::Index wrench, const WrenchSet& wrenches);
   bool holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches);
 
   std::vector<FingerFacets> fingers_;
-  std::vector<double> products_;      // row-major facet row x wrench, for the current candidate
-  std::vector<std::uint32_t> stamp_;  // generation at which each product was computed
-  std::uint32_t generation_ = 0;
 };
 
 }  // namespace icrkit::icr

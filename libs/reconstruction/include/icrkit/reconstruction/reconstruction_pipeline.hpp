@@ -18,6 +18,7 @@
 #include <icrkit/reconstruction/ball_pivoting.hpp>
 #include <icrkit/reconstruction/octree_fusion.hpp>
 #include <icrkit/reconstruction/range_calibration.hpp>
+#include <icrkit/reconstruction/board_lattice_pose.hpp>
 #include <icrkit/reconstruction/scan_filters.hpp>
 #include <icrkit/reconstruction/scan_sequence_registration.hpp>
 
@@ -57,6 +58,19 @@ struct ReconstructionParameters {
   /// false: keep the reported poses (no registration).
   bool register_scans = true;
   SequenceRegistrationParameters registration;
+  /// The paper's setup B: the object stands on a checkerboard. Wherever the
+  /// board is found in a scan's intensity image (latticeCameraPose, its
+  /// corners predicted by the reported pose), the camera pose relative to
+  /// the board enters the registration's pose graph as an absolute prior
+  /// with `board_prior_sigma_*`, next to the robot's odometry and its weaker
+  /// reported-pose priors: the board fixes the object frame (the robot's
+  /// constant hand-eye error drops out), the robot's relative motion keeps
+  /// the scans together. The NDT still starts from the reported poses (see
+  /// docs/calibration.md for why). Unset: no board.
+  std::optional<BoardLattice> board;
+  LatticePoseParameters board_detection;
+  double board_prior_sigma_translation = 0.002;  ///< metres
+  double board_prior_sigma_rotation = 0.004;     ///< radians
 
   /// Fusion; its `bounds` are replaced by the crop box.
   OctreeFusionParameters fusion;
@@ -114,6 +128,10 @@ struct ReconstructionResult {
   double scan_spacing_m = 0.0;  ///< median point spacing of the first scan's object points
   std::vector<ScanFilterRecord> filters;
   SequenceRegistrationResult registration;  ///< empty when registration is off
+  /// Per scan, the checkerboard pose when `board` was given (else empty);
+  /// `poses_from_board` of them were found and used.
+  std::vector<LatticePose> board_poses;
+  std::size_t poses_from_board = 0;
   /// The fused cloud with normals and the attributes `view`, `pixel`,
   /// `viewpoint_x/y/z`.
   PointCloud cloud;

@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <optional>
 #include <vector>
 
 namespace icrkit::reconstruction {
@@ -109,6 +110,15 @@ struct SequenceRegistrationParameters {
   }();
 };
 
+/// An absolute measurement of a scan's pose besides the robot's report (the
+/// camera pose relative to a checkerboard under the object): one more prior
+/// edge in the pose graph, with its own standard deviations.
+struct PosePrior {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< scan -> model frame
+  double sigma_translation = 0.002;                        ///< metres
+  double sigma_rotation = 0.004;                           ///< radians
+};
+
 /// What happened to one scan.
 struct ScanRegistrationRecord {
   std::size_t index = 0;
@@ -180,11 +190,14 @@ public:
   SequenceRegistration& operator=(const SequenceRegistration&) = delete;
 
   /// Registers the next scan: `points` in the scan's own frame,
-  /// `initial_pose` its reported pose (scan -> model frame). Throws
-  /// InputError naming the scan for an empty cloud, a non-finite coordinate
-  /// or a non-finite pose. NDT failures are not errors: the scan is
-  /// recorded as rejected.
-  const ScanRegistrationRecord& add(const PointCloud& points, const Eigen::Isometry3d& initial_pose);
+  /// `initial_pose` its reported pose (scan -> model frame), `prior` an
+  /// optional independent measurement of its pose (a prior edge even when
+  /// the reported poses give none). Throws InputError naming the scan for an
+  /// empty cloud, a non-finite coordinate, a non-finite pose or a prior
+  /// sigma <= 0. NDT failures are not errors: the scan is recorded as
+  /// rejected.
+  const ScanRegistrationRecord& add(const PointCloud& points, const Eigen::Isometry3d& initial_pose,
+                                    const std::optional<PosePrior>& prior = std::nullopt);
 
   std::size_t size() const;
 
