@@ -6,16 +6,18 @@
 # run a second time with the camera's range error calibrated out
 # (`icrkit calibrate-range` on a separate recording: another object, seed
 # and exact poses, as a camera would be calibrated once before use).
-#   bench/reconstruct_datasets.sh BUILD_DIR [WORK_DIR]
+#   bench/reconstruct_datasets.sh BUILD_DIR [WORK_DIR [NAME_FILTER]]
+# NAME_FILTER (e.g. sr4000) keeps the datasets whose name contains it.
 set -euo pipefail
 build="${1:?usage: $0 BUILD_DIR [WORK_DIR]}"
 work="${2:-$(mktemp -d)}"
+filter="${3:-}"
 icrkit="$build/apps/icrkit/icrkit"
 mkdir -p "$work"
 "$icrkit" datasets list --json >"$work/list.json"
 names=$(/usr/bin/python3 -c "import json; print(' '.join(d['name'] for d in json.load(open('$work/list.json'))['datasets']))")
-echo "| dataset | scans | reported: sensor mm / deg (median, aligned) | registered: sensor mm / deg (median) | max | pairs accepted | fused points | cloud -> CAD mean mm | registration s | total s |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| dataset | scans | reported: sensor mm / deg (median, aligned) | registered: sensor mm / deg (median) | max | pairs accepted | fused points | cloud -> CAD mean mm | modelled sigma mm | registration s | total s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
 [ -f "$work/sr4000_calibration/scans.rawlog" ] ||
   "$icrkit" simulate --object paper_cup --sensor sr4000 --views 12 --seed 7 --perfect-poses \
     -o "$work/sr4000_calibration" -q >/dev/null
@@ -23,6 +25,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|"
   -o "$work/sr4000_range.json" -q --json >/dev/null
 runs=""
 for name in $names; do
+  case "$name" in *"$filter"*) ;; *) continue ;; esac
   runs="$runs $name"
   case "$name" in *sr4000*) runs="$runs $name+range" ;; esac
 done
@@ -53,10 +56,29 @@ aligned = (R @ (cloud - ca).T).T + cb
 mesh = o3d.t.geometry.TriangleMesh.from_legacy(o3d.io.read_triangle_mesh(sys.argv[3]))
 scene = o3d.t.geometry.RaycastingScene(); scene.add_triangles(mesh)
 dist = scene.compute_distance(o3d.core.Tensor(aligned.astype(np.float32))).numpy()
+# The simulator's SR4000 range noise for these very measurements (its model,
+# libs/sim/src/sr4000_model.cpp: 4 mm at 2 m for amplitude 1, amplitude =
+# reflectivity 0.6 x cos(incidence) x (2 m / range)^2), each point at its
+# own range from its view's sensor and its incidence on the CAD surface;
+# the median over the fused points. Not computed for the Kinect sets: they
+# already meet the stricter bound, 1.5x the normal-incidence sigma at 0.7 m.
+if 'sr4000' in sys.argv[4]:
+    attributes = o3d.t.io.read_point_cloud(sys.argv[2]).point
+    viewpoints = np.stack([attributes[k].numpy().reshape(-1) for k in ('viewpoint_x', 'viewpoint_y', 'viewpoint_z')], 1)
+    viewpoints = (R @ (viewpoints - ca).T).T + cb
+    closest = scene.compute_closest_points(o3d.core.Tensor(aligned.astype(np.float32)))
+    normals = closest['primitive_normals'].numpy().astype(float)
+    rays = aligned - viewpoints
+    ranges = np.linalg.norm(rays, axis=1)
+    cosines = np.clip(np.abs((normals * rays).sum(1)) / ranges, 1e-6, 1.0)
+    sigma = np.median(0.004 * ranges ** 2 / (4.0 * 0.6 * cosines))
+else:
+    sigma = None
 pairs = d['registration']
 print(f"| {sys.argv[4]} | {d['scans']} | {rep['median_sensor_translation_mm']:.2f} / {rep['median_rotation_deg']:.3f} | "
       f"{reg['median_sensor_translation_mm']:.2f} / {reg['median_rotation_deg']:.3f} | "
       f"{reg['max_sensor_translation_mm']:.2f} / {reg['max_rotation_deg']:.3f} | {pairs['pairs_accepted']}/{pairs['pairs']} | "
-      f"{d['cloud_points']} | {dist.mean() * 1e3:.2f} | {d['time_ms']['registration'] / 1e3:.1f} | {d['time_ms']['total'] / 1e3:.1f} |")
+      f"{d['cloud_points']} | {dist.mean() * 1e3:.2f} | {'–' if sigma is None else f'{sigma * 1e3:.2f}'} | "
+      f"{d['time_ms']['registration'] / 1e3:.1f} | {d['time_ms']['total'] / 1e3:.1f} |")
 PY
 done

@@ -1,7 +1,7 @@
 // The whole pipeline on a simulated Kinect / setup B recording of the cup
 // with the simulator's default robot pose errors: registration error
 // against the ground truth, fused cloud against the CAD mesh, meshes and
-// their attributes, and bad input.
+// their attributes, checkerboard poses (setup B), and bad input.
 
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 
@@ -9,7 +9,9 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_distance.hpp>
+#include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/pose.hpp>
 #include <icrkit/reconstruction/range_calibration.hpp>
 #include <icrkit/reconstruction/trajectory_error.hpp>
@@ -29,6 +31,34 @@ using testing_support::scratchFolder;
 using testing_support::simulatedRecording;
 
 constexpr double kDeg = M_PI / 180.0;
+
+// The sensor model's range noise for the fused points as they were
+// measured: each point's own range (the SR4000's along the ray, the
+// Kinect's depth along the optical axis) and incidence on the CAD surface
+// (normal of the nearest CAD vertex), the object's reflectivity 0.6. Returns
+// the median sigma over the points (metres): the typical noise; a mean would
+// be ruled by the few points near grazing incidence, where the Kinect
+// model's sigma grows without bound.
+double modelledNoiseOfTheFusedPoints(const PointCloud& cloud, const std::vector<Eigen::Isometry3d>& poses,
+                                     const Eigen::Isometry3d& alignment, TriangleMesh cad, sim::SensorType sensor) {
+  const sim::SensorModel model = sim::sensorModel(sensor);
+  computeVertexNormals(cad);
+  const KdTree cad_vertices(cad.vertices.positions);
+  const auto& view = cloud.attributes.get("view").values;
+  std::vector<double> sigmas;
+  for (std::size_t i = 0; i < cloud.positions.size(); ++i) {
+    const Eigen::Isometry3d pose = alignment * poses[static_cast<std::size_t>(view[i])];
+    const Eigen::Vector3d p = alignment * cloud.positions[i];
+    const Eigen::Vector3d ray = p - pose.translation();
+    const Eigen::Vector3d normal = cad.vertices.normals[cad_vertices.nearest(p, 1).front().index];
+    const double incidence = std::acos(std::min(1.0, std::abs(normal.dot(ray.normalized()))));
+    // MRPT's sensor axes: +x is the optical axis.
+    const double range = model.range_is_depth ? ray.dot(pose.linear().col(0)) : ray.norm();
+    sigmas.push_back(sim::rangeNoiseSigma(model, range, incidence));
+  }
+  std::nth_element(sigmas.begin(), sigmas.begin() + static_cast<std::ptrdiff_t>(sigmas.size() / 2), sigmas.end());
+  return sigmas[sigmas.size() / 2];
+}
 
 void reconstructSimulatedCup(sim::SensorType sensor, double range) {
   const std::string dir = simulatedRecording(12, false, sensor);
@@ -78,11 +108,17 @@ void reconstructSimulatedCup(sim::SensorType sensor, double range) {
   const MeshDistanceStatistics floor =
       meanDistanceToCad(reconstructRawlog(dir + "/scans.rawlog", true_poses).cloud, Eigen::Isometry3d::Identity());
   const double sigma = sim::rangeNoiseSigma(sim::sensorModel(sensor), range, 0.0);
+  const double sigma_measured = modelledNoiseOfTheFusedPoints(r.cloud, r.poses, registered.alignment, cad, sensor);
   std::printf("fused %zu points: mean distance to the CAD mesh %.3f mm (median %.3f, max %.2f); at the true poses "
-              "%.3f mm; modelled range sigma at %.1f m, normal incidence: %.3f mm\n",
+              "%.3f mm; modelled range sigma at %.1f m, normal incidence: %.3f mm; median over the fused points at "
+              "their own range and incidence: %.3f mm\n",
               r.cloud.positions.size(), d.mean * 1e3, d.median * 1e3, d.max * 1e3, floor.mean * 1e3, range,
-              sigma * 1e3);
+              sigma * 1e3, sigma_measured * 1e3);
   EXPECT_LE(d.mean, 1.5 * floor.mean);
+  // The acceptance reading: within 1.5x the model's noise for these very
+  // measurements (docs/reconstruction.md). The stricter best case, normal
+  // incidence at the working range, holds for the Kinect only (below).
+  EXPECT_LE(d.mean, 1.5 * sigma_measured);
   if (sensor == sim::SensorType::Kinect) {
     EXPECT_LE(d.mean, 1.5 * sigma);
   } else {
@@ -108,6 +144,7 @@ void reconstructSimulatedCup(sim::SensorType sensor, double range) {
     EXPECT_LE(rc_error.aligned.median_rotation_rad, 0.3 * kDeg);
     EXPECT_LT(floor_corrected.mean, 0.75 * floor.mean);
     EXPECT_LT(dc.mean, d.mean);
+    EXPECT_LE(dc.mean, 1.5 * modelledNoiseOfTheFusedPoints(rc.cloud, rc.poses, rc_error.alignment, cad, sensor));
     // Not yet within 1.5x of that floor (0.94 against 0.51 mm here): what
     // remains is the pose error, the robot's hand-eye rotation carried
     // through its odometry (docs/reconstruction.md).
