@@ -61,19 +61,52 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
   const VertexAdjacency& adjacency = object.adjacency();
   std::vector<std::uint8_t> visited(object.vertexCount(), 0);
   std::vector<int> region{contact};
-  std::deque<int> queue{contact};
+  // Each queued vertex qualified; its evidence (which wrench held each zone,
+  // with what slack) lets its neighbours skip most facet tests.
+  const std::size_t zones = tester.zoneCount(finger);
+  std::vector<Eigen::Index> evidence_wrench;
+  std::vector<double> evidence_slack;
+  auto newEvidence = [&] {
+    evidence_wrench.resize(evidence_wrench.size() + zones);
+    evidence_slack.resize(evidence_slack.size() + zones);
+    return static_cast<long>(evidence_wrench.size() / std::max<std::size_t>(zones, 1) - 1);
+  };
+  std::deque<std::pair<int, long>> queue;  // vertex, its evidence slot (-1: none)
+  {
+    // The contact is in its region by definition; it usually also passes
+    // the test (its own wrenches are hull vertices), which gives evidence.
+    const long slot = newEvidence();
+    const bool passes = tester.qualifies(finger, wrenches.of(contact), nullptr,
+                                         evidence_wrench.data() + slot * static_cast<long>(zones),
+                                         evidence_slack.data() + slot * static_cast<long>(zones));
+    queue.emplace_back(contact, passes ? slot : -1);
+  }
   visited[static_cast<std::size_t>(contact)] = 1;
   while (!queue.empty()) {
-    const int v = queue.front();
+    const auto [v, v_slot] = queue.front();
     queue.pop_front();
     for (const int* it = adjacency.begin(static_cast<std::size_t>(v)); it != adjacency.end(static_cast<std::size_t>(v)); ++it) {
       const int u = *it;
       if (visited[static_cast<std::size_t>(u)]) continue;
       visited[static_cast<std::size_t>(u)] = 1;
       if (object.excluded(static_cast<std::size_t>(u))) continue;
-      if (!tester.qualifies(finger, wrenches.of(u))) continue;
+      const WrenchSet& u_wrenches = wrenches.of(u);
+      const long slot = newEvidence();  // before taking pointers: the pools may grow
+      ZoneTester::Evidence neighbour;
+      if (v_slot >= 0) {
+        neighbour.wrenches = &wrenches.of(v);
+        neighbour.wrench = evidence_wrench.data() + v_slot * static_cast<long>(zones);
+        neighbour.slack = evidence_slack.data() + v_slot * static_cast<long>(zones);
+      }
+      if (!tester.qualifies(finger, u_wrenches, v_slot >= 0 ? &neighbour : nullptr,
+                            evidence_wrench.data() + slot * static_cast<long>(zones),
+                            evidence_slack.data() + slot * static_cast<long>(zones))) {
+        evidence_wrench.resize(evidence_wrench.size() - zones);  // give the slot back
+        evidence_slack.resize(evidence_slack.size() - zones);
+        continue;
+      }
       region.push_back(u);
-      queue.push_back(u);
+      queue.emplace_back(u, slot);
     }
   }
   std::sort(region.begin(), region.end());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 
 namespace icrkit::icr {
 
@@ -61,37 +62,66 @@ ZoneTester::ZoneTester(const SearchZones& zones) {
   }
 }
 
-bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches) {
+bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches,
+                       double* slack) {
   std::vector<int>& rows = local.zone_rows[zone];
   const double* w = wrenches.data() + 6 * wrench;
   const double* normals = local.normals.data();
   const double* thresholds = local.thresholds.data();
+  double smallest = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const int r = rows[k];
     const double* n = normals + 6 * r;
-    const double d = n[0] * w[0] + n[1] * w[1] + n[2] * w[2] + n[3] * w[3] + n[4] * w[4] + n[5] * w[5];
-    if (d < thresholds[r]) {
+    const double margin =
+        n[0] * w[0] + n[1] * w[1] + n[2] * w[2] + n[3] * w[3] + n[4] * w[4] + n[5] * w[5] - thresholds[r];
+    if (margin < 0.0) {
       if (k > 0) std::swap(rows[k], rows[0]);
       return false;
     }
+    smallest = std::min(smallest, margin);
   }
+  if (slack) *slack = smallest;
   return true;
 }
 
 bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches) {
+  return qualifies(finger, wrenches, nullptr, nullptr, nullptr);
+}
+
+bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, const Evidence* neighbour,
+                           Eigen::Index* wrench_out, double* slack_out) {
+  constexpr double kRoundingMargin = 1e-12;
   FingerFacets& local = fingers_[finger];
   const Eigen::Index n = wrenches.cols();
+  const bool comparable = neighbour && neighbour->wrenches && neighbour->wrenches->cols() == n;
   for (std::size_t z = 0; z < local.zone_rows.size(); ++z) {
+    if (comparable) {
+      const Eigen::Index w = neighbour->wrench[z];
+      const double moved = (wrenches.col(w) - neighbour->wrenches->col(w)).norm();
+      const double left = neighbour->slack[z] - moved;
+      if (left > kRoundingMargin) {
+        if (wrench_out) {
+          wrench_out[z] = w;
+          slack_out[z] = left;
+        }
+        continue;
+      }
+    }
     const Eigen::Index first = local.last_wrench[z] < n ? local.last_wrench[z] : 0;
-    bool held = holds(local, z, first, wrenches);
-    for (Eigen::Index w = 0; w < n && !held; ++w) {
+    double slack = 0.0;
+    Eigen::Index held = holds(local, z, first, wrenches, &slack) ? first : -1;
+    for (Eigen::Index w = 0; w < n && held < 0; ++w) {
       if (w == first) continue;
-      if (holds(local, z, w, wrenches)) {
-        held = true;
+      if (holds(local, z, w, wrenches, &slack)) {
+        held = w;
         local.last_wrench[z] = w;
       }
     }
-    if (!held) return false;
+    if (held < 0) return false;
+    if (wrench_out) {
+      wrench_out[z] = held;
+      slack_out[z] = slack;
+    }
   }
   return true;
 }

@@ -220,3 +220,59 @@ TEST(GraspWrenchSpace, UnmergedDefaultHullGivesTheSameEpsilonAsMergedHull) {
   EXPECT_FALSE(none.force_closure);
   EXPECT_EQ(none.qhull_options, "Qt Qx");
 }
+
+namespace icrkit::icr {
+namespace {
+
+TEST(SearchZones, NeighbourEvidenceNeverChangesTheAnswer) {
+  // A random 4 x 9 wrench GWS, zones for a ball of half its epsilon; parents
+  // that qualify, children moved from them by random steps from tiny to
+  // large: with the parent's evidence the answer must be the full test's.
+  std::mt19937 rng(21);
+  std::normal_distribution<double> g;
+  WrenchSet w(6, 36);
+  for (Eigen::Index i = 0; i < w.size(); ++i) w.data()[i] = g(rng);
+  const GraspWrenchSpace gws = computeGraspWrenchSpace(w);
+  ASSERT_TRUE(gws.force_closure);
+  const SearchZones zones = computeSearchZones(gws, TaskWrenchSpace::ball(0.5 * gws.epsilon), 4, 9);
+  ZoneTester tester(zones);
+  std::size_t qualifying_children = 0, checked = 0;
+  for (std::size_t finger = 0; finger < 4; ++finger) {
+    const std::size_t count = tester.zoneCount(finger);
+    std::vector<Eigen::Index> wrench(count), child_wrench(count);
+    std::vector<double> slack(count), child_slack(count);
+    for (int trial = 0; trial < 200; ++trial) {
+      // A parent near the finger's own wrenches (which lie in their zones).
+      WrenchSet parent = w.middleCols(static_cast<Eigen::Index>(9 * finger), 9);
+      for (Eigen::Index i = 0; i < parent.size(); ++i) parent.data()[i] += 0.02 * g(rng);
+      if (!tester.qualifies(finger, parent, nullptr, wrench.data(), slack.data())) continue;
+      for (std::size_t z = 0; z < count; ++z) EXPECT_GE(slack[z], 0.0);
+      ZoneTester::Evidence evidence{&parent, wrench.data(), slack.data()};
+      for (const double step : {1e-6, 1e-3, 1e-2, 0.05, 0.2}) {
+        WrenchSet child = parent;
+        for (Eigen::Index i = 0; i < child.size(); ++i) child.data()[i] += step * g(rng);
+        const bool full = tester.qualifies(finger, child);
+        const bool fast = tester.qualifies(finger, child, &evidence, child_wrench.data(), child_slack.data());
+        EXPECT_EQ(full, fast) << "finger " << finger << " step " << step;
+        ++checked;
+        qualifying_children += full ? 1 : 0;
+        if (fast) {
+          // The child's own evidence is honest: each named wrench clears
+          // every facet of its zone by at least the stated slack.
+          for (std::size_t z = 0; z < count; ++z) {
+            EXPECT_GE(child_slack[z], 0.0);
+            const Wrench c = child.col(child_wrench[z]);
+            for (int f : zones.by_finger[finger][z].facets)
+              EXPECT_GE(zones.normals.col(f).dot(c) - zones.thresholds[static_cast<std::size_t>(f)],
+                        child_slack[z] - 1e-9);
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 500u);
+  EXPECT_GT(qualifying_children, 100u);  // plenty of children qualify, so the fast path is exercised
+}
+
+}  // namespace
+}  // namespace icrkit::icr

@@ -40,6 +40,26 @@ public:
   /// True when every zone of `finger` holds at least one column of `wrenches`.
   bool qualifies(std::size_t finger, const WrenchSet& wrenches);
 
+  /// Why a candidate that qualified passed each zone of its finger: per
+  /// zone, the wrench (column) that held it and a lower bound on that
+  /// wrench's smallest margin n . w - threshold over the zone's facets.
+  struct Evidence {
+    const WrenchSet* wrenches = nullptr;
+    const Eigen::Index* wrench = nullptr;  ///< zoneCount(finger) entries
+    const double* slack = nullptr;         ///< zoneCount(finger) entries
+  };
+  std::size_t zoneCount(std::size_t finger) const { return fingers_[finger].zone_rows.size(); }
+
+  /// The same answer, sped up by a neighbour's evidence: the facet normals
+  /// are unit, so a wrench that moved by less than its slack from one that
+  /// held a zone still holds it, and the zone's facets are not evaluated
+  /// (with a 1e-12 margin for rounding). On a fine mesh neighbouring
+  /// vertices' wrenches differ little and most zone tests end there. When
+  /// the candidate qualifies, its own evidence is written to
+  /// `wrench_out` / `slack_out` (zoneCount(finger) entries each).
+  bool qualifies(std::size_t finger, const WrenchSet& wrenches, const Evidence* neighbour, Eigen::Index* wrench_out,
+                 double* slack_out);
+
 private:
   struct FingerFacets {
     // One row per facet the finger's zones use; row-major, so that a facet's
@@ -52,7 +72,9 @@ private:
     // front of its zone. Only the order of the work changes, never the answer.
     std::vector<Eigen::Index> last_wrench;
   };
-  bool holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches);
+  // With `slack`, a wrench that holds the zone gets its smallest margin there.
+  bool holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches,
+             double* slack = nullptr);
 
   std::vector<FingerFacets> fingers_;
 };
