@@ -83,8 +83,9 @@ s = json.load(open('$work/board.json'))
 b = s['board']
 assert b['square_m'] == 0.02 and b['origin_m'] == [0, 0, -0.0001], b
 assert b['poses_from_board'] >= 6, b
-found = [scan['board']['found'] for scan in s['per_scan']]
-assert sum(found) == b['poses_from_board'] and len(found) == 8, found
+used = [scan['board']['used'] for scan in s['per_scan']]
+assert sum(used) == b['poses_from_board'] and len(used) == 8, used
+assert all(scan['board']['found'] for scan in s['per_scan'] if scan['board']['used'])
 assert all(scan['board']['corners'] >= 12 for scan in s['per_scan'] if scan['board']['found'])
 plain = json.load(open('$work/rec.json'))
 assert plain['board'] is None and 'board' not in plain['per_scan'][0]
@@ -94,6 +95,9 @@ assert plain['board'] is None and 'board' not in plain['per_scan'][0]
 expect_input_error "--board-square" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad8" --board-square -0.02
 expect_input_error "--board-origin" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad9" \
   --board-square 0.02 --board-origin 0,0
+expect_input_error "--board-origin" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad10" --board-origin 0,0,0
+expect_input_error "--no-registration" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad11" \
+  --board-square 0.02 --no-registration
 expect_input_error "missing.rawlog" "$ICRKIT" reconstruct "$work/missing.rawlog" -o "$work/bad1"
 [ ! -e "$work/bad1" ] || fail "a failed run created its output directory"
 head -c 20000 "$work/cup/scans.rawlog" >"$work/truncated.rawlog"

@@ -44,7 +44,7 @@ struct ReconstructOptions {
   std::string smoothing_radius = "4x";
   int passes = 1;
   double board_square = 0.0;
-  std::string board_origin = "0,0,0";
+  std::string board_origin;
 };
 
 Eigen::AlignedBox3d parseBox(const std::string& option, const std::string& text) {
@@ -89,13 +89,18 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   params.auto_crop_half_size = options.crop_size;
   params.remove_support_plane = !options.no_plane;
   params.register_scans = !options.no_registration;
+  if (!options.board_origin.empty() && options.board_square == 0.0)
+    throw InputError("--board-origin", "", "needs --board-square (the checkerboard's square size)");
   if (options.board_square != 0.0) {
     if (!(options.board_square > 0) || !std::isfinite(options.board_square))
       throw InputError("--board-square", "", "expected the checkerboard's square size in metres (> 0)");
+    if (options.no_registration)
+      throw InputError("--board-square", "", "the board poses enter the registration; drop --no-registration");
     reconstruction::BoardLattice board;
     board.square_size = options.board_square;
-    const std::vector<std::string> items = split(options.board_origin, ',');
-    if (items.size() != 3) throw InputError("--board-origin", "", "expected x,y,z in metres, got '" + options.board_origin + "'");
+    const std::string origin = options.board_origin.empty() ? "0,0,0" : options.board_origin;
+    const std::vector<std::string> items = split(origin, ',');
+    if (items.size() != 3) throw InputError("--board-origin", "", "expected x,y,z in metres, got '" + origin + "'");
     for (int k = 0; k < 3; ++k)
       if (!parseNumber(items[static_cast<std::size_t>(k)], board.origin[k]))
         throw InputError("--board-origin", "", "'" + items[static_cast<std::size_t>(k)] + "' is not a number");
@@ -165,7 +170,10 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
                         {"fused_points", i < result.fusion.kept_per_scan.size() ? result.fusion.kept_per_scan[i] : 0}};
     if (i < result.board_poses.size()) {
       const reconstruction::LatticePose& b = result.board_poses[i];
-      scan["board"] = {{"found", b.found}, {"corners", b.corners}, {"rms_px", b.rms_px}};
+      scan["board"] = {{"found", b.found},
+                       {"used", b.found && !result.board_pose_rejected[i]},
+                       {"corners", b.corners},
+                       {"rms_px", b.rms_px}};
     }
     if (i < records.size()) {
       const reconstruction::ScanRegistrationRecord& r = records[i];
@@ -307,11 +315,10 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
   command->add_flag("--no-registration", options->no_registration, "Fuse at the reported poses");
   command->add_option("--board-square", options->board_square,
                       "Setup B: the object stands on a checkerboard with squares of this size (metres) whose lines "
-                      "lie on the object frame's x and y axes; each scan's pose relative to the board, found in its "
-                      "intensity image, replaces the reported pose as registration start and prior (docs/calibration.md)");
+                      "lie on the object frame's x and y axes; each scan's camera pose found on it (intensity image) "
+                      "becomes a robust prior in the registration's pose graph (docs/calibration.md)");
   command->add_option("--board-origin", options->board_origin,
-                      "A corner of the checkerboard, object frame (x,y,z metres)")
-      ->capture_default_str();
+                      "A corner of the checkerboard, object frame (x,y,z metres; default 0,0,0)");
   command->add_flag("--no-jump-edges", options->no_jump_edges, "Keep jump-edge (flying) pixels");
   command->add_flag("--no-meshes", options->no_meshes, "Stop after the fused cloud");
   command->add_option("--min-confidence", options->min_confidence, "Drop pixels below this confidence (0-255; 0 = off)")

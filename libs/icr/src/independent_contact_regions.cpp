@@ -66,10 +66,16 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
   const std::size_t zones = tester.zoneCount(finger);
   std::vector<Eigen::Index> evidence_wrench;
   std::vector<double> evidence_slack;
+  long slots = 0;
   auto newEvidence = [&] {
     evidence_wrench.resize(evidence_wrench.size() + zones);
     evidence_slack.resize(evidence_slack.size() + zones);
-    return static_cast<long>(evidence_wrench.size() / std::max<std::size_t>(zones, 1) - 1);
+    return slots++;
+  };
+  auto dropLastEvidence = [&] {
+    evidence_wrench.resize(evidence_wrench.size() - zones);
+    evidence_slack.resize(evidence_slack.size() - zones);
+    --slots;
   };
   std::deque<std::pair<int, long>> queue;  // vertex, its evidence slot (-1: none)
   {
@@ -79,6 +85,7 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
     const bool passes = tester.qualifies(finger, wrenches.of(contact), nullptr,
                                          evidence_wrench.data() + slot * static_cast<long>(zones),
                                          evidence_slack.data() + slot * static_cast<long>(zones));
+    if (!passes) dropLastEvidence();
     queue.emplace_back(contact, passes ? slot : -1);
   }
   visited[static_cast<std::size_t>(contact)] = 1;
@@ -101,8 +108,7 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
       if (!tester.qualifies(finger, u_wrenches, v_slot >= 0 ? &neighbour : nullptr,
                             evidence_wrench.data() + slot * static_cast<long>(zones),
                             evidence_slack.data() + slot * static_cast<long>(zones))) {
-        evidence_wrench.resize(evidence_wrench.size() - zones);  // give the slot back
-        evidence_slack.resize(evidence_slack.size() - zones);
+        dropLastEvidence();  // the newest slot: nobody refers to it
         continue;
       }
       region.push_back(u);

@@ -90,16 +90,19 @@ bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches) {
 
 bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, const Evidence* neighbour,
                            Eigen::Index* wrench_out, double* slack_out) {
-  constexpr double kRoundingMargin = 1e-12;
   FingerFacets& local = fingers_[finger];
   const Eigen::Index n = wrenches.cols();
   const bool comparable = neighbour && neighbour->wrenches && neighbour->wrenches->cols() == n;
+  // Products of O(|w|) terms carry rounding of about 1e-16 |w|; every hop
+  // gives up a margin far above that, so a chain of shortcuts stays sound.
+  const double margin = comparable ? 1e-12 * std::max(1.0, wrenches.cwiseAbs().maxCoeff()) : 0.0;
   for (std::size_t z = 0; z < local.zone_rows.size(); ++z) {
     if (comparable) {
       const Eigen::Index w = neighbour->wrench[z];
       const double moved = (wrenches.col(w) - neighbour->wrenches->col(w)).norm();
-      const double left = neighbour->slack[z] - moved;
-      if (left > kRoundingMargin) {
+      const double left = neighbour->slack[z] - moved - margin;
+      if (left > 0.0) {
+        ++zones_on_evidence_;
         if (wrench_out) {
           wrench_out[z] = w;
           slack_out[z] = left;

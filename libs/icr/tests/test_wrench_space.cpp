@@ -219,6 +219,14 @@ TEST(GraspWrenchSpace, UnmergedDefaultHullGivesTheSameEpsilonAsMergedHull) {
   const GraspWrenchSpace none = computeGraspWrenchSpace(flat);
   EXPECT_FALSE(none.force_closure);
   EXPECT_EQ(none.qhull_options, "Qt Qx");
+  // A first hull the containment check rejects (here: any, with a negative
+  // tolerance) is rebuilt with the fallback options.
+  HullParameters suspicious;
+  suspicious.convexity_tolerance = -1.0;
+  const GraspWrenchSpace rebuilt = computeGraspWrenchSpace(crossPolytope(), suspicious);
+  EXPECT_EQ(rebuilt.qhull_options, "Qt Qx");
+  EXPECT_TRUE(rebuilt.force_closure);
+  EXPECT_NEAR(rebuilt.epsilon, 1.0 / std::sqrt(6.0), 1e-12);
 }
 
 namespace icrkit::icr {
@@ -271,7 +279,8 @@ TEST(SearchZones, NeighbourEvidenceNeverChangesTheAnswer) {
     }
   }
   EXPECT_GT(checked, 500u);
-  EXPECT_GT(qualifying_children, 100u);  // plenty of children qualify, so the fast path is exercised
+  EXPECT_GT(qualifying_children, 100u);
+  EXPECT_GT(tester.zonesOnEvidence(), 500u);  // the shortcut was taken, not just the full test
 }
 
 }  // namespace

@@ -127,8 +127,9 @@ NeighbourGraph nearestNeighbourGraph(const std::vector<Eigen::Vector3d>& points,
 std::size_t orientNormalsOverGraph(PointCloud& cloud, const NeighbourGraph& graph) {
   const std::size_t n = cloud.size();
   if (!cloud.hasNormals() || n == 0) return 0;
-  if (n > std::numeric_limits<std::uint32_t>::max())
-    throw InputError("point cloud", "", "normal orientation handles at most 2^32 - 1 points, got " + std::to_string(n));
+  // Tree adjacency counts reach twice the point count in 32 bits.
+  if (n > std::numeric_limits<std::uint32_t>::max() / 2)
+    throw InputError("point cloud", "", "normal orientation handles at most 2^31 - 1 points, got " + std::to_string(n));
   if (graph.neighbours.size() != n * graph.slots)
     throw InputError("neighbour graph", "", "expected " + std::to_string(n * graph.slots) + " slots, got " +
                                                 std::to_string(graph.neighbours.size()));
@@ -179,10 +180,12 @@ std::size_t orientNormalsOverGraph(PointCloud& cloud, const NeighbourGraph& grap
     if (root == std::numeric_limits<std::uint32_t>::max() || outwardness[i] > outwardness[root]) root = i;
   }
 
-  // Walk each tree from its root; a normal that disagrees with its parent's
-  // turns. The result depends only on the tree, not on the walk order.
+  // Walk each tree from its root; a normal that disagrees with the nearest
+  // non-zero normal above it turns (a zero normal passes its parent's on).
+  // The result depends only on the tree, not on the walk order.
   std::size_t flipped = 0;
   std::vector<std::uint8_t> done(n, 0);
+  std::vector<std::uint32_t> reference(n);  // the non-zero normal a node's children compare with
   std::vector<std::uint32_t> stack;
   for (std::uint32_t set = 0; set < n; ++set) {
     const std::uint32_t root = root_of_set[set];
@@ -192,6 +195,7 @@ std::size_t orientNormalsOverGraph(PointCloud& cloud, const NeighbourGraph& grap
       ++flipped;
     }
     done[root] = 1;
+    reference[root] = root;
     stack.push_back(root);
     while (!stack.empty()) {
       const std::uint32_t v = stack.back();
@@ -200,10 +204,11 @@ std::size_t orientNormalsOverGraph(PointCloud& cloud, const NeighbourGraph& grap
         const std::uint32_t u = adjacent[s];
         if (done[u]) continue;
         done[u] = 1;
-        if (normals[u].dot(normals[v]) < 0) {
+        if (normals[u].dot(normals[reference[v]]) < 0) {
           normals[u] = -normals[u];
           ++flipped;
         }
+        reference[u] = normals[u].squaredNorm() > 0 ? u : reference[v];
         stack.push_back(u);
       }
     }

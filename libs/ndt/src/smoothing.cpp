@@ -47,11 +47,19 @@ struct PassOutput {
 };
 
 // Writes the `slots` points of `window` nearest to input[i] (itself left
-// out; ties in window order) into the graph's row i.
-void keepNearest(const std::vector<Eigen::Vector3d>& input, std::size_t i, const std::vector<std::size_t>& window,
-                 NeighbourGraph& graph) {
+// out; ties in window order) into the graph's row i. A window with too few
+// points (an isolated point, a sparse patch) is topped up by a k-NN query,
+// so that the orientation graph still bridges gaps as a k-NN graph would.
+void keepNearest(const std::vector<Eigen::Vector3d>& input, const KdTree& tree, std::size_t i,
+                 const std::vector<std::size_t>& window, NeighbourGraph& graph) {
   constexpr std::size_t kMaxSlots = 32;
   const std::size_t slots = std::min(graph.slots, kMaxSlots);
+  if (window.size() < slots + 1) {
+    std::size_t slot = 0;
+    for (const Neighbour& nb : tree.nearest(input[i], slots + 1))
+      if (nb.index != i && slot < slots) graph.neighbours[i * graph.slots + slot++] = nb.index;
+    return;
+  }
   std::array<double, kMaxSlots> distance;
   std::array<std::size_t, kMaxSlots> index;
   std::size_t kept = 0;
@@ -95,7 +103,7 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
       tree.indicesWithinRadiusInTreeOrder(p, radius, window);
       const std::size_t count = window.size();
       out.cardinality[i] = static_cast<int>(count);
-      if (graph_slots > 0) keepNearest(input, i, window, out.graph);
+      if (graph_slots > 0) keepNearest(input, tree, i, window, out.graph);
       if (count < 3) {
         out.positions[i] = p;
         continue;

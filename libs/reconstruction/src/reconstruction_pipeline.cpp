@@ -136,6 +136,8 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
   if (params.crop_box && (params.crop_box->isEmpty() || !params.crop_box->min().allFinite() ||
                           !params.crop_box->max().allFinite()))
     throw InputError("crop box", "", "expected finite corners with min < max");
+  if (params.board && !params.register_scans)
+    throw InputError("board", "", "the checkerboard poses enter the registration's pose graph; registration is off");
   ReconstructionResult result;
   ReconstructionTimes& times = result.times;
 
@@ -176,12 +178,19 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
           nextFilteredScan(reader, rawlog, i, params, result.crop_box, object, record, times, &board_pose);
       std::optional<PosePrior> board_prior;
       if (params.board) {
+        bool rejected = false;
         if (board_pose.found) {
+          const Eigen::Isometry3d change = scan.sensor_pose.inverse() * board_pose.sensor_pose;
+          rejected = change.translation().norm() > 0.5 * params.board->square_size ||
+                     Eigen::AngleAxisd(change.rotation()).angle() > params.board_max_rotation;
+        }
+        if (board_pose.found && !rejected) {
           board_prior = PosePrior{board_pose.sensor_pose, params.board_prior_sigma_translation,
                                   params.board_prior_sigma_rotation};
           ++result.poses_from_board;
         }
         result.board_poses.push_back(board_pose);
+        result.board_pose_rejected.push_back(rejected ? 1 : 0);
       }
       if (record.object_points == 0)
         throw InputError(rawlog, "scan " + std::to_string(i),
@@ -208,9 +217,6 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     times.registration_ms += msSince(start);
   } else {
     result.poses = result.reported_poses;
-    if (params.board)
-      for (std::size_t i = 0; i < n; ++i)
-        if (result.board_poses[i].found) result.poses[i] = result.board_poses[i].sensor_pose;
   }
 
   // Pass 2: fusion of the whole scans at their registered poses.

@@ -494,8 +494,11 @@ SequenceRegistrationResult SequenceRegistration::finish() {
         graph.edges.push_back(edge);
       }
       if (s.priors[i]) {
+        // Robust: an independent measurement (a board corner lattice locked
+        // one square off, say) must not drag the whole graph.
         edge.measurement = s.priors[i]->pose;
         edge.information = poseGraphInformation(s.priors[i]->sigma_translation, s.priors[i]->sigma_rotation);
+        edge.robust = true;
         graph.edges.push_back(edge);
       }
     }
@@ -504,7 +507,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     graph.fixed = {0};
   }
 
-  if (n == 1) {
+  if (n == 1 && !extra_priors) {
     result.poses = {s.records.front().model_pose};
   } else {
     PoseGraphResult solved = optimisePoseGraph(graph, params.graph);

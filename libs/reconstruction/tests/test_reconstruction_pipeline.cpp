@@ -244,6 +244,11 @@ TEST(ReconstructionPipeline, BadInputNamesTheFileAndScan) {
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
   }
   EXPECT_THROW(reconstructRawlog((scratch / "truncated.rawlog").string()), InputError);
+  // Board poses without registration: nowhere to put them.
+  params = {};
+  params.board = BoardLattice{};
+  params.register_scans = false;
+  EXPECT_THROW(reconstructRawlog(dir + "/scans.rawlog", params), InputError);
   EXPECT_THROW(reconstructRawlog((scratch / "missing.rawlog").string()), InputError);
   std::filesystem::remove_all(scratch);
 }

@@ -161,6 +161,38 @@ TEST(SequenceRegistration, BadInputNamesTheScan) {
   EXPECT_THROW(SequenceRegistration().finish(), InputError);
 }
 
+TEST(SequenceRegistration, AnIndependentPosePriorIsWeighedAgainstTheReportedPose) {
+  // One scan: no pairs, so the pose is the weighted mean of the reported
+  // pose (prior 5 mm) and the extra prior (2 mm, 3 mm away along x).
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  PointCloud scan;
+  for (int i = 0; i < 500; ++i) scan.positions.emplace_back(u(rng), u(rng), 0.3 + 0.01 * u(rng));
+  PosePrior prior;
+  prior.pose = makePose(Eigen::Vector3d(0.003, 0, 0), Eigen::Vector3d::UnitZ(), 0.0);
+  prior.sigma_translation = 0.002;
+  SequenceRegistration weighted;
+  weighted.add(scan, Eigen::Isometry3d::Identity(), prior);
+  const double expected = 0.003 * (1 / 0.002 / 0.002) / (1 / 0.005 / 0.005 + 1 / 0.002 / 0.002);  // 2.59 mm
+  EXPECT_NEAR(weighted.finish().poses.front().translation().x(), expected, 2e-5);
+  // Without reported-pose priors the extra prior alone places the scan.
+  SequenceRegistrationParameters no_reported;
+  no_reported.prior_sigma_translation = 0.0;
+  no_reported.prior_sigma_rotation = 0.0;
+  SequenceRegistration alone(no_reported);
+  alone.add(scan, Eigen::Isometry3d::Identity(), prior);
+  EXPECT_NEAR(alone.finish().poses.front().translation().x(), 0.003, 1e-6);
+  // A prior with a sigma <= 0 is bad input naming the scan.
+  prior.sigma_rotation = 0.0;
+  SequenceRegistration bad;
+  try {
+    bad.add(scan, Eigen::Isometry3d::Identity(), prior);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scan 0"), std::string::npos) << e.what();
+  }
+}
+
 // ---- Stanford bunny ---------------------------------------------------------
 
 // bun.conf: `bmesh FILE tx ty tz qx qy qz qw`; a scan point p maps into the

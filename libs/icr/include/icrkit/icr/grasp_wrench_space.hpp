@@ -16,9 +16,10 @@ struct HullParameters {
   /// hull in about 60 % of the time of qhull's default merging and gives the
   /// same facets and regions on every reference grasp (docs/performance.md).
   /// Without merging qhull may stop on nearly degenerate input or leave a
-  /// facet that some wrench lies beyond: both are detected (every wrench is
-  /// checked against every facet) and the hull is rebuilt with
-  /// `fallback_options`.
+  /// facet that some wrench lies beyond; either makes the hull be rebuilt
+  /// with `fallback_options` (every wrench is checked against every facet).
+  /// Nearly coplanar facets are kept unmerged: the hull is right, with more
+  /// facets (and zone constraints) than a merged one.
   std::string qhull_options = "Q0";
   /// Options of the second attempt: triangulated output with exact
   /// pre-merges, the reference library's choice. Empty: no retry.

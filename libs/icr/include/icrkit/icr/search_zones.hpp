@@ -53,12 +53,15 @@ public:
   /// The same answer, sped up by a neighbour's evidence: the facet normals
   /// are unit, so a wrench that moved by less than its slack from one that
   /// held a zone still holds it, and the zone's facets are not evaluated
-  /// (with a 1e-12 margin for rounding). On a fine mesh neighbouring
+  /// (a margin of 1e-12 times the largest wrench component is given up per
+  /// hop for rounding). On a fine mesh neighbouring
   /// vertices' wrenches differ little and most zone tests end there. When
   /// the candidate qualifies, its own evidence is written to
   /// `wrench_out` / `slack_out` (zoneCount(finger) entries each).
   bool qualifies(std::size_t finger, const WrenchSet& wrenches, const Evidence* neighbour, Eigen::Index* wrench_out,
                  double* slack_out);
+  /// How many zone tests a neighbour's evidence settled so far.
+  std::size_t zonesOnEvidence() const { return zones_on_evidence_; }
 
 private:
   struct FingerFacets {
@@ -77,6 +80,7 @@ private:
              double* slack = nullptr);
 
   std::vector<FingerFacets> fingers_;
+  std::size_t zones_on_evidence_ = 0;
 };
 
 }  // namespace icrkit::icr

@@ -25,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,16 +62,19 @@ struct ReconstructionParameters {
   /// The paper's setup B: the object stands on a checkerboard. Wherever the
   /// board is found in a scan's intensity image (latticeCameraPose, its
   /// corners predicted by the reported pose), the camera pose relative to
-  /// the board enters the registration's pose graph as an absolute prior
-  /// with `board_prior_sigma_*`, next to the robot's odometry and its weaker
-  /// reported-pose priors: the board fixes the object frame (the robot's
-  /// constant hand-eye error drops out), the robot's relative motion keeps
-  /// the scans together. The NDT still starts from the reported poses (see
-  /// docs/calibration.md for why). Unset: no board.
+  /// the board enters the registration's pose graph as a robust absolute
+  /// prior with `board_prior_sigma_*`, next to the robot's odometry and its
+  /// weaker reported-pose priors: the board fixes the object frame (most of
+  /// the robot's constant hand-eye error drops out), the robot's relative
+  /// motion keeps the scans together. The NDT still starts from the reported
+  /// poses (docs/calibration.md says why). A board pose further than half a
+  /// square or `board_max_rotation` from the reported pose is not used (a
+  /// lattice locked one square off). Needs `register_scans`. Unset: no board.
   std::optional<BoardLattice> board;
   LatticePoseParameters board_detection;
   double board_prior_sigma_translation = 0.002;  ///< metres
   double board_prior_sigma_rotation = 0.004;     ///< radians
+  double board_max_rotation = 0.035;             ///< radians (2 deg)
 
   /// Fusion; its `bounds` are replaced by the crop box.
   OctreeFusionParameters fusion;
@@ -129,8 +133,10 @@ struct ReconstructionResult {
   std::vector<ScanFilterRecord> filters;
   SequenceRegistrationResult registration;  ///< empty when registration is off
   /// Per scan, the checkerboard pose when `board` was given (else empty);
-  /// `poses_from_board` of them were found and used.
+  /// `poses_from_board` of them were found and used; `board_pose_rejected`
+  /// marks those found but too far from the reported pose.
   std::vector<LatticePose> board_poses;
+  std::vector<std::uint8_t> board_pose_rejected;
   std::size_t poses_from_board = 0;
   /// The fused cloud with normals and the attributes `view`, `pixel`,
   /// `viewpoint_x/y/z`.
