@@ -98,12 +98,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
       throw InputError("--board-square", "", "the board poses enter the registration; drop --no-registration");
     reconstruction::BoardLattice board;
     board.square_size = options.board_square;
-    const std::string origin = options.board_origin.empty() ? "0,0,0" : options.board_origin;
-    const std::vector<std::string> items = split(origin, ',');
-    if (items.size() != 3) throw InputError("--board-origin", "", "expected x,y,z in metres, got '" + origin + "'");
-    for (int k = 0; k < 3; ++k)
-      if (!parseNumber(items[static_cast<std::size_t>(k)], board.origin[k]))
-        throw InputError("--board-origin", "", "'" + items[static_cast<std::size_t>(k)] + "' is not a number");
+    if (!options.board_origin.empty()) board.origin = parsePoint("--board-origin", options.board_origin);
     params.board = board;
   }
   params.jump_edge_filter = !options.no_jump_edges;

@@ -2,6 +2,8 @@
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/ndt/normal_orientation.hpp>
 
+#include "nearest_neighbour_row.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -115,11 +117,7 @@ NeighbourGraph nearestNeighbourGraph(const std::vector<Eigen::Vector3d>& points,
   if (graph.slots == 0) return graph;
   const KdTree tree(points);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      std::size_t slot = 0;
-      for (const Neighbour& nb : tree.nearest(points[i], graph.slots + 1))
-        if (nb.index != i && slot < graph.slots) graph.neighbours[i * graph.slots + slot++] = nb.index;
-    }
+    for (std::size_t i = range.begin(); i != range.end(); ++i) fillNearestNeighbourRow(tree, points, i, graph);
   });
   return graph;
 }

@@ -4,6 +4,8 @@
 #include <icrkit/ndt/smoothing.hpp>
 #include <icrkit/ndt/symmetric_eigen3.hpp>
 
+#include "nearest_neighbour_row.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -55,9 +57,7 @@ void keepNearest(const std::vector<Eigen::Vector3d>& input, const KdTree& tree, 
   constexpr std::size_t kMaxSlots = 32;
   const std::size_t slots = std::min(graph.slots, kMaxSlots);
   if (window.size() < slots + 1) {
-    std::size_t slot = 0;
-    for (const Neighbour& nb : tree.nearest(input[i], slots + 1))
-      if (nb.index != i && slot < slots) graph.neighbours[i * graph.slots + slot++] = nb.index;
+    fillNearestNeighbourRow(tree, input, i, graph);
     return;
   }
   std::array<double, kMaxSlots> distance;

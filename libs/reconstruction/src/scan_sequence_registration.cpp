@@ -474,15 +474,13 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       graph.edges.push_back(edge);
     }
   }
-  bool extra_priors = false;
-  for (const auto& prior : s.priors) extra_priors = extra_priors || prior.has_value();
+  const bool extra_priors =
+      std::any_of(s.priors.begin(), s.priors.end(), [](const std::optional<PosePrior>& p) { return p.has_value(); });
   if (priors || extra_priors) {
     // A world node at the identity, tied to every scan by its reported pose
     // and to those with another measurement of their pose by that one.
     const std::size_t world = n;
     graph.poses.push_back(Eigen::Isometry3d::Identity());
-    const Matrix6d prior_information =
-        priors ? poseGraphInformation(params.prior_sigma_translation, params.prior_sigma_rotation) : Matrix6d::Zero();
     for (std::size_t i = 0; i < n; ++i) {
       PoseGraphEdge edge;
       edge.from = world;
@@ -490,7 +488,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       edge.robust = false;
       if (priors) {
         edge.measurement = s.records[i].initial_pose;
-        edge.information = prior_information;
+        edge.information = poseGraphInformation(params.prior_sigma_translation, params.prior_sigma_rotation);
         graph.edges.push_back(edge);
       }
       if (s.priors[i]) {
