@@ -48,9 +48,11 @@ void run(const GraspsOptions& options, CommandContext& context) {
   params.max_attempts = options.max_attempts;
   icr::GraspSamplingStatistics statistics;
   std::vector<icr::SampledGrasp> grasps;
+  std::size_t unreferenced = 0;
   try {
     const icr::GraspableObject object =
         icr::GraspableObject::withDefaultFrame(input.mesh, input.excluded, options.mesh.torque_reference);
+    unreferenced = object.unreferencedCount();
     grasps = icr::sampleForceClosureGrasps(object, model, params, &statistics);
   } catch (const InputError& error) {
     throw namingMesh(options.mesh.path, error);
@@ -84,6 +86,7 @@ void run(const GraspsOptions& options, CommandContext& context) {
       {"exclusion", input.exclusion_source},
       {"excluded_vertices", countExcluded(input.excluded)},
       {"vertices", input.mesh.vertexCount()},
+      {"unreferenced_vertices", unreferenced},
       {"time_ms", {{"read", read_ms}, {"sampling", statistics.time_ms}, {"total", context.elapsedMs()}}}};
 
   if (options.output.empty()) {

@@ -8,6 +8,7 @@
 
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/icr/graspable_object.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
 
@@ -135,12 +136,21 @@ void run(const IcrOptions& options, CommandContext& context) {
   if (!options.contacts.empty()) {
     contacts = parseContactIndices(options.contacts);
   } else {
-    if (input.mesh.vertexCount() == 0) throw InputError(path, "", "has no vertices to snap --contact-points to");
-    const KdTree tree(input.mesh.vertices.positions);
+    // Only vertices of faces can be contacts, so only they attract a point.
+    const std::vector<std::uint8_t> referenced = referencedVertices(input.mesh);
+    std::vector<int> surface;
+    std::vector<Eigen::Vector3d> positions;
+    for (std::size_t v = 0; v < referenced.size(); ++v)
+      if (referenced[v]) {
+        surface.push_back(static_cast<int>(v));
+        positions.push_back(input.mesh.vertices.positions[v]);
+      }
+    if (surface.empty()) throw InputError(path, "", "has no vertex of a face to snap --contact-points to");
+    const KdTree tree(positions);
     snap_distances = nlohmann::json::array();
     for (const Eigen::Vector3d& p : parseContactPoints(options.contact_points)) {
       const Neighbour nearest = tree.nearest(p, 1).front();
-      contacts.push_back(static_cast<int>(nearest.index));
+      contacts.push_back(surface[nearest.index]);
       snap_distances.push_back(nearest.distance);
     }
   }
@@ -151,9 +161,11 @@ void run(const IcrOptions& options, CommandContext& context) {
   params.tws_radius = options.tws_radius;
   params.mode = options.mode;
   icr::IcrResult result;
+  std::size_t unreferenced = 0;
   try {
     const icr::GraspableObject object =
         icr::GraspableObject::withDefaultFrame(input.mesh, input.excluded, options.mesh.torque_reference);
+    unreferenced = object.unreferencedCount();
     result = icr::computeIndependentContactRegions(object, contacts, params);
   } catch (const InputError& error) {
     throw namingMesh(path, error);
@@ -181,6 +193,7 @@ void run(const IcrOptions& options, CommandContext& context) {
       {"exclusion", input.exclusion_source},
       {"excluded_vertices", countExcluded(input.excluded)},
       {"vertices", input.mesh.vertexCount()},
+      {"unreferenced_vertices", unreferenced},
       {"vertices_tested", result.vertices_tested},
       {"mesh", path},
       {"output", options.output},
@@ -215,7 +228,7 @@ void addIcrCommand(CLI::App& app, CommandRunner& runner) {
   auto* contacts = command->add_option("--contacts", options->contacts, "Prototype grasp: vertex indices i,j,k,...");
   auto* points = command->add_option("--contact-points", options->contact_points,
                                      "Prototype grasp as points \"x,y,z;x,y,z;...\" (metres), each snapped to the "
-                                     "nearest vertex");
+                                     "nearest vertex of a face");
   contacts->excludes(points);
   options->contact_model.addTo(*command);
   auto* alpha = command

@@ -8,6 +8,7 @@
 
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_normals.hpp>
+#include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/eval/grasp_render.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
 #include <icrkit/eval/mesh_render.hpp>
@@ -70,7 +71,9 @@ std::pair<int, int> parseSize(const std::string& text) {
   return {static_cast<int>(w), static_cast<int>(h)};
 }
 
-std::vector<int> parseContacts(const std::string& text, std::size_t vertex_count) {
+std::vector<int> parseContacts(const std::string& text, const TriangleMesh& mesh) {
+  const std::size_t vertex_count = mesh.vertexCount();
+  const std::vector<std::uint8_t> referenced = referencedVertices(mesh);
   std::vector<int> contacts;
   const std::vector<std::string> parts = split(text, ',');
   for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -80,6 +83,9 @@ std::vector<int> parseContacts(const std::string& text, std::size_t vertex_count
       throw InputError("--contacts", "item " + std::to_string(i + 1),
                        "expected a vertex index in 0.." + std::to_string(static_cast<long long>(vertex_count) - 1) +
                            ", got '" + parts[i] + "'");
+    if (!referenced[static_cast<std::size_t>(value)])
+      throw InputError("--contacts", "item " + std::to_string(i + 1),
+                       "vertex " + parts[i] + " is used by no face, so it cannot be a contact");
     contacts.push_back(static_cast<int>(value));
   }
   return contacts;
@@ -98,6 +104,7 @@ RegionSet readRegions(const std::string& path, const TriangleMesh& mesh, const s
   if (!document.is_object() || !document.contains("regions") || !document["regions"].is_array())
     throw InputError(path, "", "has no \"regions\" array; expected the JSON summary `icrkit icr` writes next to its PLY");
   const long long count = static_cast<long long>(mesh.vertexCount());
+  const std::vector<std::uint8_t> referenced = referencedVertices(mesh);
   auto vertexIndex = [&](const nlohmann::json& value, const std::string& where) {
     if (!value.is_number_integer())
       throw InputError(path, where, "expected a vertex index, got " + value.dump());
@@ -106,6 +113,11 @@ RegionSet readRegions(const std::string& path, const TriangleMesh& mesh, const s
       throw InputError(path, where,
                        "vertex " + std::to_string(v) + " is out of range for " + mesh_path + " (" +
                            std::to_string(count) + " vertices); were the regions computed on another mesh?");
+    // `icrkit icr` never puts such a vertex in a region or makes it a contact.
+    if (!referenced[static_cast<std::size_t>(v)])
+      throw InputError(path, where,
+                       "vertex " + std::to_string(v) + " is used by no face of " + mesh_path +
+                           ", so it cannot be in a region; were the regions computed on another mesh?");
     return static_cast<int>(v);
   };
   RegionSet set;
@@ -265,7 +277,7 @@ void run(const RenderOptions& options, CommandContext& context) {
   if (!options.regions.empty())
     regions = onlyFinger(readRegions(options.regions, mesh, options.mesh), options.finger, options.regions);
   std::vector<int> contacts = contactsOf(regions);
-  if (!options.contacts.empty()) contacts = parseContacts(options.contacts, mesh.vertexCount());
+  if (!options.contacts.empty()) contacts = parseContacts(options.contacts, mesh);
 
   eval::RenderStyle style;
   style.width = width;

@@ -90,8 +90,8 @@ void GraspMeshOptions::addTo(CLI::App& command) {
   command
       .add_option_function<std::string>(
           "--torque-reference", [this](const std::string& name) { torque_reference = kTorqueReferences.at(name); },
-          "Torque reference: origin (of the mesh frame) or centroid (of the vertices); lambda is the farthest "
-          "vertex from it; default origin")
+          "Torque reference: origin (of the mesh frame) or centroid (of the vertices faces use); lambda is the "
+          "farthest such vertex from it; default origin")
       ->check(CLI::IsMember(kTorqueReferences));
 }
 

@@ -1,8 +1,10 @@
 #include <icrkit/core/mesh_normals.hpp>
+#include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <deque>
 #include <tuple>
 #include <utility>
@@ -132,6 +134,33 @@ OrientationReport computeVertexNormals(TriangleMesh& mesh, const VertexNormalPar
   for (Eigen::Vector3d& n : normals) {
     const double length = n.norm();
     n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero();
+  }
+  // A zero normal on an unreferenced vertex would make the mesh fail any
+  // later unit-normal check (ours skip such vertices, other tools do not).
+  const std::vector<std::uint8_t> referenced = referencedVertices(mesh);
+  std::vector<Eigen::Vector3d> donor_positions;
+  std::vector<std::size_t> donors;
+  bool borrowing = false;
+  for (std::size_t v = 0; v < normals.size(); ++v) {
+    if (!referenced[v]) {
+      borrowing = true;
+    } else if (normals[v] != Eigen::Vector3d::Zero()) {
+      donor_positions.push_back(p[v]);
+      donors.push_back(v);
+    }
+  }
+  if (borrowing && !donors.empty()) {
+    const KdTree tree(donor_positions);
+    for (std::size_t v = 0; v < normals.size(); ++v) {
+      if (referenced[v]) continue;
+      // Several candidates, so that an exact tie goes to the lower index
+      // rather than to the tree's traversal order.
+      const std::vector<Neighbour> nearest = tree.nearest(p[v], 4);
+      std::size_t best = donors[nearest.front().index];
+      for (const Neighbour& n : nearest)
+        if (n.distance == nearest.front().distance) best = std::min(best, donors[n.index]);
+      normals[v] = normals[best];
+    }
   }
   mesh.vertices.normals = std::move(normals);
   return report;

@@ -65,6 +65,22 @@ VertexAdjacency vertexAdjacency(const TriangleMesh& mesh) {
   return adjacency;
 }
 
+std::vector<std::uint8_t> referencedVertices(const TriangleMesh& mesh) {
+  std::vector<std::uint8_t> used(mesh.vertexCount(), 0);
+  for (const Triangle& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(f[k])] = 1;
+  return used;
+}
+
+std::vector<Eigen::Vector3d> referencedPositions(const TriangleMesh& mesh) {
+  const std::vector<std::uint8_t> used = referencedVertices(mesh);
+  std::vector<Eigen::Vector3d> positions;
+  positions.reserve(mesh.vertexCount());
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) positions.push_back(mesh.vertices.positions[v]);
+  return positions;
+}
+
 VertexFaces vertexFaces(const TriangleMesh& mesh) {
   VertexFaces incidence;
   incidence.offsets.assign(mesh.vertexCount() + 1, 0);
@@ -160,9 +176,7 @@ MeshComponents meshComponents(const TriangleMesh& mesh) {
   const std::size_t n = mesh.vertexCount();
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
-  std::vector<std::uint8_t> used(n, 0);
   for (const Triangle& f : mesh.faces) {
-    for (int k = 0; k < 3; ++k) used[f[k]] = 1;
     const int r0 = findRoot(parent, f[0]);
     for (int k = 1; k < 3; ++k) {
       const int r = findRoot(parent, f[k]);
@@ -179,7 +193,8 @@ MeshComponents meshComponents(const TriangleMesh& mesh) {
     if (label[root] < 0) label[root] = static_cast<int>(result.count++);
     result.face_component[i] = label[root];
   }
-  result.unreferenced_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
+  const std::vector<std::uint8_t> used = referencedVertices(mesh);
+  result.unreferenced_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), std::uint8_t{0}));
   return result;
 }
 

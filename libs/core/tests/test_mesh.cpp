@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 using namespace icrkit;
 
@@ -136,11 +138,47 @@ TEST(MeshNormals, OpenPatchFacesAwayFromItsCentroid) {
   EXPECT_LT(m.vertices.normals[0].z(), -0.99);
 }
 
-TEST(MeshNormals, UnusedVerticesGetZeroNormals) {
+TEST(MeshTopology, ReferencedVerticesAreThoseOfFaces) {
   TriangleMesh t = tetrahedron();
-  t.vertices.positions.emplace_back(7, 7, 7);
+  t.vertices.positions.insert(t.vertices.positions.begin() + 2, Eigen::Vector3d(7, 7, 7));
+  for (Triangle& f : t.faces)
+    for (int k = 0; k < 3; ++k)
+      if (f[k] >= 2) ++f[k];
+  t.vertices.positions.emplace_back(-1, -1, -1);
+  EXPECT_EQ(referencedVertices(t), (std::vector<std::uint8_t>{1, 1, 0, 1, 1, 0}));
+  const std::vector<Eigen::Vector3d> surface = referencedPositions(t);
+  ASSERT_EQ(surface.size(), 4u);
+  EXPECT_EQ(surface[2], Eigen::Vector3d(0, 1, 0));
+  EXPECT_EQ(meshComponents(t).unreferenced_vertices, 2u);
+  t.faces.clear();
+  EXPECT_EQ(referencedVertices(t), std::vector<std::uint8_t>(6, 0));
+  EXPECT_TRUE(referencedPositions(t).empty());
+}
+
+TEST(MeshNormals, UnusedVerticesBorrowTheNearestNormalAndChangeNothingElse) {
+  const TriangleMesh clean = [] {
+    TriangleMesh c = cube();
+    computeVertexNormals(c);
+    return c;
+  }();
+  TriangleMesh t = cube();
+  // Equidistant from corners 1, 3, 5 and 7 (the x = 1 face): the lowest wins.
+  t.vertices.positions.emplace_back(3, 0.5, 0.5);
+  // Nearest corner 6 = (0, 1, 1).
+  t.vertices.positions.emplace_back(-0.2, 1.1, 1.3);
   computeVertexNormals(t);
-  EXPECT_EQ(t.vertices.normals[4], Eigen::Vector3d::Zero());
+  ASSERT_EQ(t.vertices.normals.size(), 10u);
+  for (std::size_t v = 0; v < 8; ++v) EXPECT_EQ(t.vertices.normals[v], clean.vertices.normals[v]) << v;
+  EXPECT_EQ(t.vertices.normals[8], clean.vertices.normals[1]);
+  EXPECT_EQ(t.vertices.normals[9], clean.vertices.normals[6]);
+  for (const Eigen::Vector3d& n : t.vertices.normals) EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+
+  // Only degenerate faces: nothing to borrow from, zero as documented.
+  TriangleMesh flat;
+  flat.vertices.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {5, 5, 5}};
+  flat.faces = {Triangle(0, 1, 2)};
+  computeVertexNormals(flat);
+  for (const Eigen::Vector3d& n : flat.vertices.normals) EXPECT_EQ(n, Eigen::Vector3d::Zero());
 }
 
 namespace icrkit {

@@ -1,6 +1,7 @@
 #include <icrkit/eval/experiment.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
 #include <icrkit/eval/region_quality.hpp>
 #include <icrkit/icr/grasp_sampling.hpp>
@@ -26,7 +27,11 @@ void requireNormals(const TriangleMesh* mesh, const std::string& what) {
   if (mesh->faces.empty()) throw InputError(what, "", "the mesh has no faces");
   if (mesh->vertices.normals.size() != mesh->vertexCount())
     throw InputError(what, "", "the mesh needs one normal per vertex");
+  // A vertex no face uses is never a contact, a region vertex or a mapping
+  // target, so whatever normal it carries (zero, garbage) does not matter.
+  const std::vector<std::uint8_t> referenced = referencedVertices(*mesh);
   for (std::size_t v = 0; v < mesh->vertexCount(); ++v) {
+    if (!referenced[v]) continue;
     const double length = mesh->vertices.normals[v].norm();
     if (!(std::abs(length - 1.0) < 1e-3))
       throw InputError(what, "vertex " + std::to_string(v),
@@ -76,7 +81,7 @@ std::vector<std::uint8_t> ExperimentConfig::filteredExclusion(const TriangleMesh
 }
 
 icr::WrenchFrame commonWrenchFrame(const TriangleMesh& cad) {
-  return icr::makeWrenchFrame(cad.vertices.positions, icr::TorqueReference::Centroid);
+  return icr::makeWrenchFrame(referencedPositions(cad), icr::TorqueReference::Centroid);
 }
 
 icr::ContactModel ExperimentConfig::contactModel() const {

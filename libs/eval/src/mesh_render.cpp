@@ -2,6 +2,7 @@
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/mesh_topology.hpp>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -230,11 +231,15 @@ void RgbImage::set(int x, int y, const std::array<std::uint8_t, 3>& colour) {
 // --- Cameras ---------------------------------------------------------------
 
 BoundingSphere boundingSphere(const TriangleMesh& mesh) {
-  if (mesh.vertexCount() == 0) throw InputError("mesh", "", "has no vertices to frame");
+  // The surface is what is drawn: stray vertices no face uses must not move
+  // or widen the views (a point cloud, without faces, is framed whole).
+  const std::vector<Eigen::Vector3d> points = mesh.faces.empty() ? mesh.vertices.positions : referencedPositions(mesh);
+  if (points.empty()) throw InputError("mesh", "", "has no vertices to frame");
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : points) box.extend(p);
   BoundingSphere sphere;
-  sphere.centre = mesh.vertices.bounds().center();
-  for (const Eigen::Vector3d& p : mesh.vertices.positions)
-    sphere.radius = std::max(sphere.radius, (p - sphere.centre).norm());
+  sphere.centre = box.center();
+  for (const Eigen::Vector3d& p : points) sphere.radius = std::max(sphere.radius, (p - sphere.centre).norm());
   return sphere;
 }
 

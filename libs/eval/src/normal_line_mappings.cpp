@@ -1,6 +1,7 @@
 #include <icrkit/eval/normal_line_mappings.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/mesh_topology.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -64,9 +65,7 @@ MappingTarget::MappingTarget(const TriangleMesh& mesh, const MappingParameters& 
     throw InputError(kSource, "maximum line distance", "expected a length > 0 (metres)");
   // Vertices that no face uses (points ball pivoting left unmeshed) are not
   // part of the surface: the mappings never choose them.
-  in_surface_.assign(mesh.vertexCount(), 0);
-  for (const Triangle& f : mesh.faces)
-    for (int k = 0; k < 3; ++k) in_surface_[static_cast<std::size_t>(f[k])] = 1;
+  in_surface_ = referencedVertices(mesh);
   if (radius_ == 0.0) radius_ = 2.0 * medianEdgeLength(mesh);
   if (!(radius_ > 0.0))
     throw InputError(kSource, "target mesh", "its median edge length is 0, so no neighbourhood radius exists; give one");

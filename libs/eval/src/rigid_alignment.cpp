@@ -1,6 +1,7 @@
 #include <icrkit/eval/rigid_alignment.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
 #include <Eigen/Cholesky>
@@ -42,11 +43,16 @@ AlignmentResult alignToCad(const TriangleMesh& moving, const TriangleMesh& cad, 
   if (cad.faces.empty()) throw InputError(kSource, "CAD mesh", "has no faces");
   const RayCaster caster(cad);
 
-  // An even stride keeps the sample spread over the whole surface.
+  // An even stride keeps the sample spread over the whole surface; vertices
+  // no face uses are not on it and are left out (a mesh without faces is a
+  // point set: all its points count).
+  const std::vector<Eigen::Vector3d> surface =
+      moving.faces.empty() ? moving.vertices.positions : referencedPositions(moving);
+  if (surface.empty()) throw InputError(kSource, "moving mesh", "has no vertex that a face uses");
   std::vector<Eigen::Vector3d> samples;
-  const std::size_t n = moving.vertexCount();
+  const std::size_t n = surface.size();
   const std::size_t stride = params.max_samples == 0 ? 1 : std::max<std::size_t>(1, n / params.max_samples);
-  for (std::size_t i = 0; i < n; i += stride) samples.push_back(moving.vertices.positions[i]);
+  for (std::size_t i = 0; i < n; i += stride) samples.push_back(surface[i]);
   double reach = 0.0;  // how far a rotation step can move a sample
   for (const Eigen::Vector3d& s : samples) reach = std::max(reach, s.norm());
 

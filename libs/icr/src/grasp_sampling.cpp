@@ -279,11 +279,11 @@ std::vector<SampledGrasp> sampleForceClosureGrasps(const GraspableObject& object
   std::vector<int> eligible;
   eligible.reserve(object.vertexCount());
   for (std::size_t v = 0; v < object.vertexCount(); ++v)
-    if (!object.excluded(v)) eligible.push_back(static_cast<int>(v));
+    if (object.eligible(v)) eligible.push_back(static_cast<int>(v));
   if (eligible.size() < params.fingers)
     throw InputError("grasp sampling", "",
                      std::to_string(params.fingers) + " fingers need as many distinct contacts, but only " +
-                         std::to_string(eligible.size()) + " vertices are not excluded");
+                         std::to_string(eligible.size()) + " vertices are used by a face and not excluded");
 
   const ContactWrenches contact_wrenches(model, object.frame());
   const std::size_t fingers = params.fingers;

@@ -5,13 +5,28 @@
 #include <string>
 
 namespace icrkit::icr {
+namespace {
+
+void requireFaces(const TriangleMesh& mesh) {
+  if (mesh.faces.empty())
+    throw InputError("mesh", "", "the mesh has no faces; grasps need a surface, not only points");
+}
+
+}  // namespace
 
 GraspableObject::GraspableObject(const TriangleMesh& mesh, const WrenchFrame& frame, std::vector<std::uint8_t> excluded)
     : mesh_(&mesh), frame_(frame), excluded_(std::move(excluded)) {
   const std::size_t n = mesh.vertexCount();
+  requireFaces(mesh);
   if (!mesh.vertices.hasNormals())
     throw InputError("mesh", "", "the mesh has no vertex normals; ICRs need one outward normal per vertex");
+  referenced_ = referencedVertices(mesh);
   for (std::size_t v = 0; v < n; ++v) {
+    // Unreferenced vertices are never used, so their normals may be anything.
+    if (!referenced_[v]) {
+      ++unreferenced_;
+      continue;
+    }
     const double length = mesh.vertices.normals[v].norm();
     if (!(std::abs(length - 1.0) < 1e-3))
       throw InputError("mesh", "vertex " + std::to_string(v),
@@ -27,7 +42,10 @@ GraspableObject::GraspableObject(const TriangleMesh& mesh, const WrenchFrame& fr
 
 GraspableObject GraspableObject::withDefaultFrame(const TriangleMesh& mesh, std::vector<std::uint8_t> excluded,
                                                   TorqueReference reference) {
-  return GraspableObject(mesh, makeWrenchFrame(mesh.vertices.positions, reference), std::move(excluded));
+  requireFaces(mesh);
+  // Stray points must not move the torque reference or stretch lambda: the
+  // frame is the surface's, the same as for the mesh without them.
+  return GraspableObject(mesh, makeWrenchFrame(referencedPositions(mesh), reference), std::move(excluded));
 }
 
 std::vector<std::uint8_t> exclusionMaskOf(const TriangleMesh& mesh) {

@@ -24,6 +24,9 @@ void checkContacts(const GraspableObject& object, const std::vector<int>& contac
     const int c = contacts[i];
     if (c < 0 || c >= n)
       fail("contact " + std::to_string(i) + " is vertex " + std::to_string(c) + ", expected 0.." + std::to_string(n - 1));
+    if (!object.referenced(static_cast<std::size_t>(c)))
+      fail("contact " + std::to_string(i) + " (vertex " + std::to_string(c) +
+           ") is used by no face, so it is not on the surface; choose a vertex of a face");
     if (object.excluded(static_cast<std::size_t>(c)))
       fail("contact " + std::to_string(i) + " (vertex " + std::to_string(c) + ") is excluded by preselection");
     for (std::size_t j = 0; j < i; ++j)
@@ -96,6 +99,7 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
       const int u = *it;
       if (visited[static_cast<std::size_t>(u)]) continue;
       visited[static_cast<std::size_t>(u)] = 1;
+      // Neighbours share a face, so they are referenced: only the mask can bar them.
       if (object.excluded(static_cast<std::size_t>(u))) continue;
       const WrenchSet& u_wrenches = wrenches.of(u);
       const long slot = newEvidence();  // before taking pointers: the pools may grow
@@ -127,7 +131,7 @@ std::vector<int> testEveryVertex(const GraspableObject& object, int contact, std
       region.push_back(contact);
       continue;
     }
-    if (object.excluded(v)) continue;
+    if (!object.eligible(v)) continue;
     if (tester.qualifies(finger, wrenches.of(static_cast<int>(v)))) region.push_back(static_cast<int>(v));
   }
   return region;

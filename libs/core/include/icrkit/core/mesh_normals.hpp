@@ -26,8 +26,14 @@ struct VertexNormalParameters {
   bool orient_faces = true;  ///< run orientFaces() first
 };
 
-/// Area-weighted vertex normals from the faces (unit length; a vertex used
-/// by no face, or only by degenerate faces, gets (0, 0, 0)).
+/// Area-weighted vertex normals from the faces, unit length. A vertex no
+/// face uses has no normal of its own; it borrows that of the nearest vertex
+/// that has one (ties: the lower index), so that every written normal is a
+/// unit vector and the file stays readable by tools that insist on that. The
+/// borrowed normal carries no information: grasps, regions and mappings
+/// ignore such vertices (referencedVertices()). A vertex used only by
+/// degenerate faces gets (0, 0, 0), as does every vertex of a mesh whose
+/// faces are all degenerate (or that has none).
 OrientationReport computeVertexNormals(TriangleMesh& mesh, const VertexNormalParameters& params = {});
 
 }  // namespace icrkit

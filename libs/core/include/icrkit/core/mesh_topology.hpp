@@ -5,6 +5,7 @@
 #include <icrkit/core/triangle_mesh.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -22,6 +23,19 @@ struct VertexAdjacency {
 };
 
 VertexAdjacency vertexAdjacency(const TriangleMesh& mesh);
+
+/// Per vertex: 1 when some face uses it, 0 for an unreferenced vertex (a
+/// point a reconstruction left unmeshed, such as the 1,113 strays of the
+/// Stanford bunny's bun_zipper.ply).
+/// Such a vertex is not on the surface: grasps, regions and mappings ignore
+/// it, yet it keeps its index so that per-vertex attributes and the user's
+/// indices keep their meaning. Compute it once per mesh and share it.
+std::vector<std::uint8_t> referencedVertices(const TriangleMesh& mesh);
+
+/// The positions of the vertices some face uses, in index order (all of them
+/// for a mesh without unreferenced vertices): what a frame, a centroid or a
+/// bounding sphere of the surface should be taken over.
+std::vector<Eigen::Vector3d> referencedPositions(const TriangleMesh& mesh);
 
 /// Vertex -> the faces that use it, in compressed rows; each row ascending
 /// (a face that repeats a vertex is listed once per use).

@@ -73,13 +73,16 @@ struct ExperimentConfig {
   std::size_t nominalItems() const { return finger_counts.size() * grasps_per_set; }
 };
 
-/// The wrench frame all three meshes share: torque reference = the CAD
-/// mesh's vertex centroid, lambda = the largest CAD vertex distance from it.
+/// The wrench frame all three meshes share: torque reference = the centroid
+/// of the CAD vertices that faces use, lambda = the largest distance of such
+/// a vertex from it (vertices no face uses change nothing).
 icr::WrenchFrame commonWrenchFrame(const TriangleMesh& cad);
 
 /// The three meshes of one object. CAD and reconstructed meshes need one unit
-/// normal per vertex; the filtered mesh's `excluded` attribute (when present)
-/// is the preselection.
+/// normal per vertex that a face uses; vertices no face uses (points left
+/// unmeshed) are ignored throughout: never sampled, mapped onto or grown
+/// into, whatever their normals. The filtered mesh's `excluded` attribute
+/// (when present) is the preselection.
 struct DatasetMeshes {
   std::string name;
   const TriangleMesh* cad = nullptr;
@@ -90,8 +93,9 @@ struct DatasetMeshes {
 class DatasetExperiment {
 public:
   /// Prepares the meshes once (adjacency, Embree scenes, kd-trees). Throws
-  /// InputError for a mesh without faces or unit normals (source "CAD mesh",
-  /// "raw mesh" or "filtered mesh", location the vertex), or a bad config.
+  /// InputError for a mesh without faces or unit normals on the vertices its
+  /// faces use (source "CAD mesh", "raw mesh" or "filtered mesh", location
+  /// the vertex), or a bad config.
   DatasetExperiment(const DatasetMeshes& meshes, const ExperimentConfig& config);
   ~DatasetExperiment();
   DatasetExperiment(const DatasetExperiment&) = delete;

@@ -54,8 +54,8 @@ struct RenderCamera {
 };
 
 /// The smallest sphere around the axis-aligned bounds' centre that holds
-/// every vertex (not the minimal enclosing sphere, but within a factor
-/// sqrt(3) of it and cheap).
+/// every vertex some face uses (every vertex of a mesh without faces; not the
+/// minimal enclosing sphere, but within a factor sqrt(3) of it and cheap).
 struct BoundingSphere {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   double radius = 0.0;  ///< metres

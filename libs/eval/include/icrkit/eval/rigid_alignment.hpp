@@ -22,7 +22,9 @@
 namespace icrkit::eval {
 
 struct AlignmentParameters {
-  std::size_t max_samples = 20000;  ///< moving vertices used (evenly strided), 0 = all
+  /// Moving vertices used (evenly strided over those some face uses, or over
+  /// all of a mesh without faces), 0 = all.
+  std::size_t max_samples = 20000;
   double max_distance = 0.01;       ///< metres: pairs farther apart are ignored at the start
   double min_distance = 0.002;      ///< metres: the limit never shrinks below this
   double huber = 0.001;             ///< metres: residuals above it get weight huber / |r|

@@ -20,7 +20,7 @@ struct GraspSamplingParameters {
 };
 
 struct SampledGrasp {
-  std::vector<int> contacts;  ///< distinct, non-excluded vertex indices
+  std::vector<int> contacts;  ///< distinct vertex indices, each used by a face and not excluded
   double epsilon = 0.0;
 };
 
@@ -31,8 +31,10 @@ struct GraspSamplingStatistics {
   double time_ms = 0.0;
 };
 
-/// Draws grasps uniformly over the non-excluded vertices (deterministic for a
-/// seed, whatever the thread count). Fewer than `count` grasps come back when
+/// Draws grasps uniformly over the vertices that a face uses and that are not
+/// excluded (deterministic for a seed, whatever the thread count; a vertex no
+/// face uses is skipped without consuming a draw, so the grasps are those of
+/// the mesh without such vertices, renumbered). Fewer than `count` grasps come back when
 /// max_attempts is reached.
 std::vector<SampledGrasp> sampleForceClosureGrasps(const GraspableObject& object, const ContactModel& model,
                                                    const GraspSamplingParameters& params,

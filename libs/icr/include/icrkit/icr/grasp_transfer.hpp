@@ -4,7 +4,9 @@
 /// reconstructed) with the normal-line mapping of the paper's eq. (2):
 /// P(p, n) = argmin over target vertices q of || n x (p - q) ||, restricted
 /// to the target vertices near p so that the far side of the object, which
-/// the same line also crosses, is never chosen.
+/// the same line also crosses, is never chosen. On a target with faces only
+/// the vertices some face uses compete (points left unmeshed are not on the
+/// surface); a target without faces is a point set and all its points do.
 
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
@@ -17,7 +19,7 @@ namespace icrkit::icr {
 
 struct NormalLineMappingParameters {
   /// Candidates are the target vertices within this distance of p (metres);
-  /// 0 = ten times the target's median vertex spacing.
+  /// 0 = ten times the median spacing of the competing target vertices.
   double search_radius = 0.0;
 };
 
@@ -34,12 +36,15 @@ public:
 
 private:
   const TriangleMesh* target_;
+  std::vector<int> index_;               ///< the competing target vertices, ascending
+  std::vector<Eigen::Vector3d> points_;  ///< their positions
   KdTree tree_;
   double radius_;
 };
 
 /// Maps each contact vertex of `source` (with its vertex normal) onto `target`.
-/// Throws InputError when a contact has no target vertex within the radius.
+/// Throws InputError when a contact is out of range, is used by no face of a
+/// source that has faces, or has no target vertex within the radius.
 std::vector<int> transferGrasp(const TriangleMesh& source, const std::vector<int>& contacts, const TriangleMesh& target,
                                const NormalLineMappingParameters& params = {});
 

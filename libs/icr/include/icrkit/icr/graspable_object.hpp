@@ -15,13 +15,17 @@ namespace icrkit::icr {
 class GraspableObject {
 public:
   /// Keeps a reference to `mesh` (it must outlive the object). The mesh needs
-  /// one outward unit normal per vertex; `excluded` is empty or one flag per
-  /// vertex (non-zero: the vertex can never be a contact or join a region).
-  /// Throws InputError on a mesh without normals, a zero normal or a mask of
-  /// the wrong size.
+  /// faces and one outward unit normal per vertex that a face uses; a vertex
+  /// no face uses is not on the surface, whatever its normal (zero, garbage):
+  /// it is never a contact and never joins a region, but keeps its index.
+  /// `excluded` is empty or one flag per vertex (non-zero: the vertex can
+  /// never be a contact or join a region). Throws InputError on a mesh
+  /// without faces or normals, a used vertex without a unit normal or a mask
+  /// of the wrong size.
   GraspableObject(const TriangleMesh& mesh, const WrenchFrame& frame, std::vector<std::uint8_t> excluded = {});
 
-  /// The frame origin as torque reference, lambda from the mesh vertices.
+  /// The frame origin (or the centroid) of the vertices faces use as torque
+  /// reference, lambda the largest distance of such a vertex from it.
   static GraspableObject withDefaultFrame(const TriangleMesh& mesh, std::vector<std::uint8_t> excluded = {},
                                           TorqueReference reference = TorqueReference::Origin);
 
@@ -31,6 +35,13 @@ public:
   std::size_t vertexCount() const { return mesh_->vertexCount(); }
   bool excluded(std::size_t vertex) const { return !excluded_.empty() && excluded_[vertex] != 0; }
   const std::vector<std::uint8_t>& exclusionMask() const { return excluded_; }
+  /// Whether some face uses the vertex (referencedVertices()).
+  bool referenced(std::size_t vertex) const { return referenced_[vertex] != 0; }
+  /// Vertices no face uses.
+  std::size_t unreferencedCount() const { return unreferenced_; }
+  /// Whether the vertex may be a contact or join a region: on the surface
+  /// and not excluded.
+  bool eligible(std::size_t vertex) const { return referenced(vertex) && !excluded(vertex); }
 
   const Eigen::Vector3d& position(std::size_t v) const { return mesh_->vertices.positions[v]; }
   const Eigen::Vector3d& normal(std::size_t v) const { return mesh_->vertices.normals[v]; }
@@ -40,6 +51,8 @@ private:
   VertexAdjacency adjacency_;
   WrenchFrame frame_;
   std::vector<std::uint8_t> excluded_;
+  std::vector<std::uint8_t> referenced_;
+  std::size_t unreferenced_ = 0;
 };
 
 /// The excluded flags of a mesh's `excluded` vertex attribute (set by

@@ -15,7 +15,7 @@ namespace icrkit::icr {
 
 enum class GrowthMode {
   BreadthFirst,  ///< grow over mesh neighbours from the prototype contact; failing vertices are not expanded
-  Full           ///< test every vertex of the mesh
+  Full           ///< test every vertex of the mesh that a face uses
 };
 
 struct IcrParameters {
@@ -53,8 +53,9 @@ struct IcrResult {
   IcrTimings timings;
 };
 
-/// Throws InputError on fewer than 2 contacts, repeated or out-of-range or
-/// excluded contacts, a prototype that is not force closure, alpha outside
+/// Regions hold only vertices some face uses and that are not excluded.
+/// Throws InputError on fewer than 2 contacts, repeated, out-of-range,
+/// excluded or unreferenced (used by no face) contacts, a prototype that is not force closure, alpha outside
 /// (0, 1], or a TWS that does not fit inside the GWS.
 IcrResult computeIndependentContactRegions(const GraspableObject& object, const std::vector<int>& contacts,
                                            const IcrParameters& params = {});
