@@ -6,12 +6,19 @@
 # run a second time with the camera's range error calibrated out
 # (`icrkit calibrate-range` on a separate recording: another object, seed
 # and exact poses, as a camera would be calibrated once before use).
-#   bench/reconstruct_datasets.sh BUILD_DIR [WORK_DIR [NAME_FILTER]]
+#   [POSE_ERRORS="arm mobile"] bench/reconstruct_datasets.sh BUILD_DIR [WORK_DIR [NAME_FILTER]]
 # NAME_FILTER (e.g. sr4000) keeps the datasets whose name contains it.
+# POSE_ERRORS: the `--pose-error` models to simulate the robot's reported
+# poses with, each a separate set of rows (default: arm, the paper's
+# industrial arm; "arm mobile" adds the mobile manipulator's 3 mm / 0.5 deg
+# per-view errors). A model other than arm names its rows and folders
+# NAME_MODEL (cup_kinect_B_mobile, cup_kinect_B_5mm_1deg), as
+# `icrkit datasets make` does.
 set -euo pipefail
 build="${1:?usage: $0 BUILD_DIR [WORK_DIR]}"
 work="${2:-$(mktemp -d)}"
 filter="${3:-}"
+models="${POSE_ERRORS:-arm}"
 icrkit="$build/apps/icrkit/icrkit"
 mkdir -p "$work"
 "$icrkit" datasets list --json >"$work/list.json"
@@ -23,20 +30,31 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|"
     -o "$work/sr4000_calibration" -q >/dev/null
 "$icrkit" calibrate-range "$work/sr4000_calibration/scans.rawlog" --scene "$work/sr4000_calibration/scene.ply" \
   -o "$work/sr4000_range.json" -q --json >/dev/null
+# Each run is MODEL/DATASET[+range]; the dataset's folder is DATASET for the
+# arm and DATASET_MODEL otherwise (the folder `icrkit datasets make` writes).
 runs=""
-for name in $names; do
-  case "$name" in *"$filter"*) ;; *) continue ;; esac
-  runs="$runs $name"
-  case "$name" in *sr4000*) runs="$runs $name+range" ;; esac
+for model in $models; do
+  for name in $names; do
+    case "$name" in *"$filter"*) ;; *) continue ;; esac
+    runs="$runs $model/$name"
+    case "$name" in *sr4000*) runs="$runs $model/$name+range" ;; esac
+  done
 done
-for run in $runs; do
+for entry in $runs; do
+  model="${entry%%/*}"
+  run="${entry#*/}"
   name="${run%+range}"
+  folder="$name"
+  model_tag=$(echo "$model" | tr 'A-Z,' 'a-z_')
+  [ "$model_tag" != arm ] && folder="${name}_$model_tag"
   extra=()
   [ "$run" != "$name" ] && extra=(--range-correction "$work/sr4000_range.json")
-  [ -f "$work/$name/scans.rawlog" ] || "$icrkit" datasets make --only "$name" -o "$work" -q >/dev/null
-  "$icrkit" reconstruct "$work/$name/scans.rawlog" -o "$work/$run.rec" --gt-poses "$work/$name/ground_truth.txt" \
+  run="$folder${run#"$name"}"
+  [ -f "$work/$folder/scans.rawlog" ] ||
+    "$icrkit" datasets make --only "$name" --pose-error "$model" -o "$work" -q >/dev/null
+  "$icrkit" reconstruct "$work/$folder/scans.rawlog" -o "$work/$run.rec" --gt-poses "$work/$folder/ground_truth.txt" \
     "${extra[@]}" --json -q >"$work/$run.json"
-  PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 - "$work/$run.json" "$work/$run.rec/cloud.ply" "$work/$name/object.ply" "$run" <<'PY'
+  PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 - "$work/$run.json" "$work/$run.rec/cloud.ply" "$work/$folder/object.ply" "$run" <<'PY'
 import json, sys
 import numpy as np, open3d as o3d
 d = json.load(open(sys.argv[1]))

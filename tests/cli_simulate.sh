@@ -8,6 +8,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/cli_common.sh"
 
 expect_exit 0 "$ICRKIT" simulate --help
 grep -q -- "--sensor" "$work/out" && grep -q -- "--setup" "$work/out" || fail "simulate --help lacks its options"
+grep -q -- "--pose-error" "$work/out" || fail "simulate --help lacks --pose-error"
 
 "$ICRKIT" simulate --object cup --sensor kinect --setup B --views 2 --seed 3 -o "$work/cup" --json \
   >"$work/cup.json" 2>"$work/err" || fail "simulate failed: $(cat "$work/err")"
@@ -31,6 +32,52 @@ assert len(lines) == 2 and len(lines[0].split()) == 8, lines
 "$ICRKIT" simulate --object cup --sensor kinect --setup B --views 2 --seed 3 -o "$work/cup2" -q >/dev/null ||
   fail "second simulate failed"
 cmp -s "$work/cup/scans.rawlog" "$work/cup2/scans.rawlog" || fail "same seed gave a different rawlog"
+
+# --- Pose-error models: the arm is the default (same bytes as no option);
+# mobile and explicit sigmas change the reported poses only, and the
+# manifest names the model.
+"$ICRKIT" simulate --object cup --sensor kinect --setup B --views 2 --seed 3 --pose-error arm -o "$work/cup_arm" -q \
+  >/dev/null || fail "simulate --pose-error arm failed"
+for f in scans.rawlog ground_truth.txt reported_poses.txt; do
+  cmp -s "$work/cup/$f" "$work/cup_arm/$f" || fail "--pose-error arm changed $f"
+done
+"$ICRKIT" simulate --object cup --sensor kinect --setup B --views 2 --seed 3 --pose-error mobile -o "$work/cup_mobile" \
+  --json -q >"$work/cup_mobile.json" 2>"$work/err" || fail "simulate --pose-error mobile failed: $(cat "$work/err")"
+"$ICRKIT" simulate --object cup --sensor kinect --setup B --views 2 --seed 3 --pose-error 5mm,1deg -o "$work/cup_5mm" \
+  -q >/dev/null 2>"$work/err" || fail "simulate --pose-error 5mm,1deg failed: $(cat "$work/err")"
+cmp -s "$work/cup/ground_truth.txt" "$work/cup_mobile/ground_truth.txt" || fail "the mobile model moved the ground truth"
+cmp -s "$work/cup/reported_poses.txt" "$work/cup_mobile/reported_poses.txt" && fail "the mobile model reported the arm's poses"
+py "
+import json, math
+assert json.load(open('$work/cup.json'))['pose_error'] == 'arm'
+assert json.load(open('$work/cup_mobile.json'))['pose_error'] == 'mobile'
+m = json.load(open('$work/cup/manifest.json'))['pose_errors']
+assert m['model'] == 'arm' and m['noise_translation_m'] == 0.0003 and m['hand_eye_translation_m'] == 0.002, m
+m = json.load(open('$work/cup_mobile/manifest.json'))['pose_errors']
+assert m['model'] == 'mobile' and m['noise_translation_m'] == 0.003, m
+assert abs(m['noise_rotation_rad'] - math.radians(0.5)) < 1e-15 and m['hand_eye_translation_m'] == 0 and m['drift_rotation_rad_per_view'] == 0, m
+m = json.load(open('$work/cup_5mm/manifest.json'))['pose_errors']
+assert m['model'] == 'custom' and m['noise_translation_m'] == 0.005 and abs(m['noise_rotation_rad'] - math.radians(1)) < 1e-15, m
+" || fail "pose-error model not recorded"
+expect_input_error "--pose-error.*>= 0" "$ICRKIT" simulate --views 1 --pose-error -3mm,1deg -o "$work/bad"
+expect_input_error "--pose-error.*>= 0" "$ICRKIT" simulate --views 1 --pose-error 3mm,-1deg -o "$work/bad"
+expect_input_error "--pose-error.*wobbly" "$ICRKIT" simulate --views 1 --pose-error wobbly -o "$work/bad"
+expect_input_error "--pose-error.*'5,1deg'" "$ICRKIT" simulate --views 1 --pose-error 5,1deg -o "$work/bad"
+expect_input_error "--pose-error" "$ICRKIT" simulate --views 1 --pose-error 5mm -o "$work/bad"
+expect_input_error "--perfect-poses excludes --pose-error" "$ICRKIT" simulate --views 1 --perfect-poses --pose-error mobile \
+  -o "$work/bad"
+# datasets make under another model writes NAME_MODEL beside the arm's NAME
+"$ICRKIT" datasets make --only wooden_toy_2_sr4000_A --pose-error mobile -o "$work/ds" --json -q >"$work/ds.json" \
+  2>"$work/err" || fail "datasets make --pose-error mobile failed: $(cat "$work/err")"
+py "
+import json
+d = json.load(open('$work/ds.json'))
+assert d['pose_error'] == 'mobile' and len(d['datasets']) == 1, d
+x = d['datasets'][0]
+assert x['name'] == 'wooden_toy_2_sr4000_A' and x['directory'].endswith('/wooden_toy_2_sr4000_A_mobile'), x
+assert json.load(open('$work/ds/wooden_toy_2_sr4000_A_mobile/manifest.json'))['pose_errors']['model'] == 'mobile'
+" || fail "datasets make --pose-error mobile: wrong folder or model"
+expect_input_error "--pose-error.*wobbly" "$ICRKIT" datasets make --only cup_kinect_B --pose-error wobbly -o "$work/bad"
 
 # the SR4000 defaults to setup A; a user mesh can be scanned
 "$ICRKIT" simulate --mesh "$root/datasets/tetrahedron.obj" --sensor sr4000 --views 1 -o "$work/tet" --json -q \

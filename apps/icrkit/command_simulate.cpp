@@ -9,6 +9,8 @@
 #include <icrkit/sim/cad_objects.hpp>
 #include <icrkit/sim/dataset.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -26,8 +28,15 @@ struct SimulateOptions {
   std::uint64_t seed = 1;
   double distance = 0.0;
   bool perfect_poses = false;
+  std::string pose_error = "arm";
   std::string output;
 };
+
+// The text every --pose-error takes; documented once for both commands.
+constexpr const char* kPoseErrorHelp =
+    "Robot-reported pose errors: arm (industrial arm: 0.3 mm / 0.03 deg per view, a fixed hand-eye offset and drift), "
+    "mobile (mobile manipulator: 3 mm / 0.5 deg per axis, independent per view), none, or per-view sigmas T,R "
+    "with units, e.g. 5mm,1deg (docs/rawlog.md)";
 
 nlohmann::json summaryJson(const sim::DatasetSpec& spec, const sim::DatasetSummary& s) {
   return {{"name", sim::datasetName(spec)},
@@ -37,6 +46,7 @@ nlohmann::json summaryJson(const sim::DatasetSpec& spec, const sim::DatasetSumma
           {"setup", sim::setupName(spec.acquisition.setup)},
           {"views", s.views},
           {"seed", spec.acquisition.seed},
+          {"pose_error", spec.acquisition.errors.name},
           {"object_vertices", s.object_vertices},
           {"valid_pixel_fraction", s.valid_pixel_fraction},
           {"object_pixel_fraction", s.object_pixel_fraction},
@@ -60,7 +70,7 @@ nlohmann::json simulate(const SimulateOptions& o, CommandContext& context) {
   spec.acquisition.views = o.views;
   spec.acquisition.seed = o.seed;
   spec.acquisition.distance = o.distance;
-  if (o.perfect_poses) spec.acquisition.errors = sim::perfectPoses();
+  spec.acquisition.errors = o.perfect_poses ? sim::perfectPoses() : sim::parsePoseErrorModel(o.pose_error);
   const sim::DatasetSummary s = sim::simulateDataset(spec, o.output, context.progress());
   return summaryJson(spec, s);
 }
@@ -68,7 +78,19 @@ nlohmann::json simulate(const SimulateOptions& o, CommandContext& context) {
 struct DatasetsOptions {
   std::string output = "datasets/generated";
   std::string only;
+  std::string pose_error = "arm";
 };
+
+// The folder of a dataset under another pose-error model than the paper's
+// arm carries the model in its name (NAME_mobile, NAME_5mm_1deg), so the
+// classes coexist in one output folder and the arm's keep their names.
+std::string datasetFolder(const sim::DatasetSpec& spec, const std::string& pose_error) {
+  std::string tag = pose_error;
+  std::transform(tag.begin(), tag.end(), tag.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (tag == "arm") return sim::datasetName(spec);
+  std::replace(tag.begin(), tag.end(), ',', '_');
+  return sim::datasetName(spec) + "_" + tag;
+}
 
 nlohmann::json listDatasets() {
   nlohmann::json list = nlohmann::json::array();
@@ -83,6 +105,7 @@ nlohmann::json listDatasets() {
 }
 
 nlohmann::json makeDatasets(const DatasetsOptions& o, CommandContext& context) {
+  const sim::PoseErrorModel errors = sim::parsePoseErrorModel(o.pose_error);
   std::vector<sim::DatasetSpec> specs = sim::paperDatasets();
   if (!o.only.empty()) {
     std::vector<sim::DatasetSpec> chosen;
@@ -98,12 +121,16 @@ nlohmann::json makeDatasets(const DatasetsOptions& o, CommandContext& context) {
     specs = chosen;
   }
   nlohmann::json made = nlohmann::json::array();
-  for (const sim::DatasetSpec& spec : specs) {
-    const std::string directory = (std::filesystem::path(o.output) / sim::datasetName(spec)).string();
+  for (sim::DatasetSpec& spec : specs) {
+    spec.acquisition.errors = errors;
+    const std::string directory = (std::filesystem::path(o.output) / datasetFolder(spec, o.pose_error)).string();
     context.note("simulating " + sim::datasetName(spec) + " -> " + directory);
     made.push_back(summaryJson(spec, sim::simulateDataset(spec, directory, context.progress())));
   }
-  return {{"output", o.output}, {"datasets", made}, {"time_ms", {{"total", context.elapsedMs()}}}};
+  return {{"output", o.output},
+          {"pose_error", errors.name},
+          {"datasets", made},
+          {"time_ms", {{"total", context.elapsedMs()}}}};
 }
 
 }  // namespace
@@ -124,7 +151,9 @@ void addSimulateCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--views", o->views, "Number of views")->capture_default_str();
   command->add_option("--seed", o->seed, "Seed of every random choice (noise, pose errors)")->capture_default_str();
   command->add_option("--distance", o->distance, "Camera distance to the object's centre in metres (0: the setup's)");
-  command->add_flag("--perfect-poses", o->perfect_poses, "Report the true camera poses (no arm or hand-eye errors)");
+  auto* perfect = command->add_flag("--perfect-poses", o->perfect_poses,
+                                    "Report the true camera poses (same as --pose-error none)");
+  command->add_option("--pose-error", o->pose_error, kPoseErrorHelp)->capture_default_str()->excludes(perfect);
   command->add_option("-o,--output", o->output, "Output folder (replaced only if it holds an earlier simulation)")
       ->required();
   command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(simulate(*o, context)); }; });
@@ -135,10 +164,13 @@ void addDatasetsCommand(CLI::App& app, CommandRunner& runner) {
   command->require_subcommand(1);
   auto* list = command->add_subcommand("list", "The nine object/sensor pairs and their settings");
   list->callback([&runner] { runner = [](CommandContext& context) { context.emit(listDatasets()); }; });
-  auto* make = command->add_subcommand("make", "Simulate all of them (or --only some) into OUTPUT/NAME");
+  auto* make = command->add_subcommand(
+      "make", "Simulate all of them (or --only some) into OUTPUT/NAME (OUTPUT/NAME_MODEL under another --pose-error "
+              "than arm, e.g. cup_kinect_B_mobile, cup_kinect_B_5mm_1deg)");
   auto o = std::make_shared<DatasetsOptions>();
   make->add_option("-o,--output", o->output, "Output folder (git-ignored by default)")->capture_default_str();
   make->add_option("--only", o->only, "Comma-separated dataset names (see `icrkit datasets list`)");
+  make->add_option("--pose-error", o->pose_error, kPoseErrorHelp)->capture_default_str();
   make->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(makeDatasets(*o, context)); }; });
 }
 

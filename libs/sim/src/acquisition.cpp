@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <initializer_list>
 #include <random>
 
 namespace icrkit::sim {
@@ -94,12 +96,69 @@ Setup parseSetup(const std::string& name) {
 
 std::string setupName(Setup setup) { return setup == Setup::A ? "A" : "B"; }
 
+PoseErrorModel armPoseErrors() { return PoseErrorModel{}; }
+
+PoseErrorModel mobilePoseErrors() {
+  PoseErrorModel mobile = independentPoseErrors(0.003, 0.5 * kPi / 180.0);
+  mobile.name = "mobile";
+  return mobile;
+}
+
+PoseErrorModel independentPoseErrors(double sigma_translation, double sigma_rotation) {
+  for (const double sigma : {sigma_translation, sigma_rotation})
+    if (!std::isfinite(sigma) || sigma < 0)
+      throw InputError("--pose-error", "", "expected finite sigmas >= 0, got " + std::to_string(sigma));
+  PoseErrorModel model = perfectPoses();
+  model.name = "custom";
+  model.noise_translation = sigma_translation;
+  model.noise_rotation = sigma_rotation;
+  return model;
+}
+
 PoseErrorModel perfectPoses() {
   PoseErrorModel none;
+  none.name = "none";
   none.noise_translation = none.noise_rotation = 0.0;
   none.hand_eye_translation = none.hand_eye_rotation = 0.0;
   none.drift_translation = none.drift_rotation = 0.0;
   return none;
+}
+
+PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& option) {
+  std::string lower = text;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (lower == "arm") return armPoseErrors();
+  if (lower == "mobile") return mobilePoseErrors();
+  if (lower == "none") return perfectPoses();
+  const std::string expected = "expected arm, mobile, none or per-view sigmas T,R with units (T in mm, cm or m, "
+                               "R in deg, mrad or rad, e.g. 5mm,1deg), got '" + text + "'";
+  const std::size_t comma = lower.find(',');
+  if (comma == std::string::npos || lower.find(',', comma + 1) != std::string::npos)
+    throw InputError(option, "", expected);
+  // A value is a number followed by one of its units: a bare number would
+  // leave 5 (mm? m?) to a guess.
+  struct Unit {
+    const char* suffix;
+    double scale;
+  };
+  auto value = [&](const std::string& item, std::initializer_list<Unit> units) {
+    if (item.empty() || !(std::isdigit(static_cast<unsigned char>(item[0])) || item[0] == '.' || item[0] == '-' ||
+                          item[0] == '+'))
+      throw InputError(option, "", expected);
+    char* end = nullptr;
+    const double number = std::strtod(item.c_str(), &end);
+    const std::string suffix(end);
+    for (const Unit& u : units)
+      if (suffix == u.suffix) {
+        if (!std::isfinite(number)) break;
+        if (number < 0) throw InputError(option, "", "expected sigmas >= 0, got '" + item + "' in '" + text + "'");
+        return number * u.scale;
+      }
+    throw InputError(option, "", expected);
+  };
+  const double translation = value(lower.substr(0, comma), {{"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}});
+  const double rotation = value(lower.substr(comma + 1), {{"deg", kPi / 180.0}, {"mrad", 1e-3}, {"rad", 1.0}});
+  return independentPoseErrors(translation, rotation);
 }
 
 std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::AlignedBox3d& object_bounds) {
@@ -110,11 +169,17 @@ std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::Al
   if (object_bounds.isEmpty()) throw InputError("object", "", "the object has no vertices");
   const double distance = params.distance > 0 ? params.distance : (params.setup == Setup::A ? 0.6 : 0.7);
   const Eigen::Vector3d centre = object_bounds.center();
+  const PoseErrorModel& e = params.errors;
+  for (const double size : {e.noise_translation, e.noise_rotation, e.hand_eye_translation, e.hand_eye_rotation,
+                            e.drift_translation, e.drift_rotation})
+    if (!std::isfinite(size) || size < 0)
+      throw InputError("pose errors", "", "expected finite error sizes >= 0 (model '" + e.name + "')");
 
   // Fixed errors first, then per-view ones, all from one seeded stream in a
-  // fixed order: the same seed gives the same poses.
+  // fixed order: the same seed gives the same poses. Every model draws the
+  // same numbers (a zero-sized error still takes its draws), so the views'
+  // noise stays where it is in the stream whichever model is chosen.
   std::mt19937_64 rng(params.seed);
-  const PoseErrorModel& e = params.errors;
   const Eigen::Isometry3d hand_eye =
       motion(e.hand_eye_translation * randomUnit(rng), e.hand_eye_rotation * randomUnit(rng));
   const Eigen::Vector3d drift_direction = randomUnit(rng), drift_axis = randomUnit(rng);

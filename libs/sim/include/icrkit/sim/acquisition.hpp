@@ -32,10 +32,15 @@ enum class Setup { A, B };
 Setup parseSetup(const std::string& name);
 std::string setupName(Setup setup);
 
-/// Errors of the camera pose the robot reports, relative to the true one.
-/// Defaults: an industrial arm's pose repeatability and a careful hand-eye
-/// calibration (sources in docs/rawlog.md).
+/// Errors of the camera pose the robot reports, relative to the true one:
+/// reported = true x hand-eye x drift(k) x noise(k), all right-multiplied in
+/// the camera's frame (docs/rawlog.md, "Reported-pose errors"). The defaults
+/// are the industrial arm's (armPoseErrors()): its pose repeatability and a
+/// careful hand-eye calibration. mobilePoseErrors() is the mobile
+/// manipulator's: per-view noise only, ten times the arm's and more.
 struct PoseErrorModel {
+  /// Recorded in manifest.json: "arm", "mobile", "none" or "custom".
+  std::string name = "arm";
   double noise_translation = 0.0003;   ///< m, sigma per axis, independent per view (arm repeatability and backlash)
   double noise_rotation = 0.0005;      ///< rad, sigma per axis, independent per view
   double hand_eye_translation = 0.002; ///< m, length of the fixed camera-mount offset (direction from the seed)
@@ -44,8 +49,24 @@ struct PoseErrorModel {
   double drift_rotation = 0.00005;     ///< rad per view, about a fixed axis
 };
 
-/// No error at all: the reported poses are the true ones.
+/// The industrial arm (the defaults above).
+PoseErrorModel armPoseErrors();
+/// A mobile manipulator: independent Gaussian errors per view, 3 mm per
+/// translation axis and 0.5 deg (8.73 mrad) per rotation axis, nothing fixed
+/// or drifting.
+PoseErrorModel mobilePoseErrors();
+/// Independent Gaussian errors per view only, with these sigmas per axis
+/// (m, rad); named "custom". Throws InputError("--pose-error", ...) for a
+/// negative or non-finite sigma.
+PoseErrorModel independentPoseErrors(double sigma_translation, double sigma_rotation);
+/// No error at all: the reported poses are the true ones ("none").
 PoseErrorModel perfectPoses();
+
+/// "arm", "mobile", "none" (any case), or explicit per-view sigmas
+/// "T,R" with units, T in mm, cm or m and R in deg, mrad or rad
+/// ("5mm,1deg"; see independentPoseErrors). Throws InputError(option, ...)
+/// otherwise.
+PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& option = "--pose-error");
 
 struct AcquisitionParameters {
   Setup setup = Setup::B;
@@ -71,7 +92,7 @@ struct View {
 
 /// The views of a setup around an object with the given bounds
 /// (object frame), deterministic for the seed. Throws InputError for
-/// views <= 0 or a non-finite or negative distance.
+/// views <= 0, a non-finite or negative distance or pose error.
 std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::AlignedBox3d& object_bounds);
 
 /// The scene a setup's sensor sees: the object plus the setup's fixtures
