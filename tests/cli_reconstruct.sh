@@ -8,7 +8,8 @@ set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/cli_common.sh"
 
 expect_exit 0 "$ICRKIT" reconstruct --help
-for option in --poses --gt-poses --crop --no-registration --voxel --smoothing-radius --board-square --board-origin; do
+for option in --poses --gt-poses --crop --no-registration --voxel --smoothing-radius --board-square --board-origin \
+  --intrinsics --depth-scale --camera --max-time-difference --rotation-tolerance; do
   grep -q -- "$option" "$work/out" || fail "reconstruct --help lacks $option"
 done
 expect_exit 0 "$ICRKIT" --help
@@ -145,6 +146,177 @@ printf '{"format": "something else"}\n' >"$work/bad_model.json"
 expect_input_error "bad_model.json" "$ICRKIT" reconstruct "$work/tof/scans.rawlog" -o "$work/bad8" \
   --range-correction "$work/bad_model.json"
 [ ! -e "$work/bad8" ] || fail "a run with a bad range model created its output directory"
+
+# --- TUM RGB-D folders: a synthetic one (a sphere seen from four sides,
+# rendered here as 16-bit PNGs), read directly and through its rawlog.
+tum_py() { py "
+import math, struct, zlib, os
+def png(path, rows, bits=16):
+    h, w = len(rows), len(rows[0])
+    raw = b''.join(b'\x00' + (struct.pack('>%dH' % w, *row) if bits == 16 else bytes(row)) for row in rows)
+    chunk = lambda t, d: struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d) & 0xffffffff)
+    ihdr = struct.pack('>IIBBBBB', w, h, bits, 0, 0, 0, 0)
+    open(path, 'wb').write(b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', ihdr) + chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
+def cross(a, b): return [a[1]*b[2]-a[2]*b[1], a[2]*b[0]-a[0]*b[2], a[0]*b[1]-a[1]*b[0]]
+def unit(a): n = math.sqrt(sum(x*x for x in a)); return [x / n for x in a]
+def quaternion(R):  # columns x, y, z -> qx qy qz qw
+    m = [[R[c][r] for c in range(3)] for r in range(3)]
+    w = math.sqrt(max(0, 1 + m[0][0] + m[1][1] + m[2][2])) / 2
+    x = math.copysign(math.sqrt(max(0, 1 + m[0][0] - m[1][1] - m[2][2])) / 2, m[2][1] - m[1][2])
+    y = math.copysign(math.sqrt(max(0, 1 - m[0][0] + m[1][1] - m[2][2])) / 2, m[0][2] - m[2][0])
+    z = math.copysign(math.sqrt(max(0, 1 - m[0][0] - m[1][1] + m[2][2])) / 2, m[1][0] - m[0][1])
+    return x, y, z, w
+W, H, F, C = 160, 120, 150.0, (79.5, 59.5)
+$1
+"; }
+make_tum_folder() {  # make_tum_folder DIR: 4 views, camera-to-object optical poses in DIR/poses.txt
+  tum_py "
+d = '$1'
+os.makedirs(d + '/depth', exist_ok=True)
+lst, poses = open(d + '/depth.txt', 'w'), open(d + '/poses.txt', 'w')
+lst.write('# depth maps\n# timestamp filename\n')
+poses.write('# timestamp tx ty tz qx qy qz qw (optical axes, camera to object)\n')
+for k in range(4):
+    a = k * math.pi / 2 + 0.3
+    c = [0.5 * math.cos(a), 0.5 * math.sin(a), 0.15]
+    z = unit([-x for x in c]); x = unit(cross(z, [0, 0, 1])); y = cross(z, x)
+    rows = []
+    for v in range(H):
+        row = []
+        for u in range(W):
+            r = [(u - C[0]) / F, (v - C[1]) / F, 1.0]
+            dv = [x[i] * r[0] + y[i] * r[1] + z[i] * r[2] for i in range(3)]
+            # |c + s dv| = 0.05: the sphere at the origin.
+            A = sum(q * q for q in dv); B = 2 * sum(p * q for p, q in zip(c, dv)); Cc = sum(p * p for p in c) - 0.05 ** 2
+            disc = B * B - 4 * A * Cc
+            row.append(int(round(1000 * (-B - math.sqrt(disc)) / (2 * A))) if disc > 0 else 0)
+        rows.append(row)
+    name = 'depth/%d.000000.png' % (100 + k)
+    png(d + '/' + name, rows)
+    lst.write('%d.000000 %s\n' % (100 + k, name))
+    poses.write('%d.000000 %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n' % ((100 + k,) + tuple(c) + quaternion([x, y, z])))
+"
+}
+tum="$work/tum"
+make_tum_folder "$tum" || { echo "FAIL: writing the synthetic TUM folder" >&2; exit 1; }
+camera_flags=(--intrinsics 150,150,79.5,59.5 --depth-scale 1000)
+fast_flags=(--crop -0.1,-0.1,-0.1,0.1,0.1,0.1 --no-plane-removal --no-registration --no-meshes)
+"$ICRKIT" reconstruct "$tum" -o "$work/tum_rec" "${camera_flags[@]}" --poses "$tum/poses.txt" "${fast_flags[@]}" \
+  --gt-poses "$tum/poses.txt" --json >"$work/tum_rec.json" 2>"$work/err" ||
+  fail "reconstruct of a TUM folder failed: $(cat "$work/err")"
+"$ICRKIT" convert "$tum" "$work/tum.rawlog" "${camera_flags[@]}" --poses "$tum/poses.txt" --json \
+  >"$work/tum_convert.json" 2>"$work/err" || fail "convert of a TUM folder failed: $(cat "$work/err")"
+"$ICRKIT" reconstruct "$work/tum.rawlog" -o "$work/tum_rawlog_rec" "${fast_flags[@]}" --json \
+  >"$work/tum_rawlog_rec.json" 2>"$work/err" || fail "reconstruct of the converted rawlog failed: $(cat "$work/err")"
+cmp -s "$work/tum_rec/poses.txt" "$work/tum_rawlog_rec/poses.txt" || fail "poses.txt differs between folder and rawlog"
+cmp -s "$work/tum_rec/cloud.ply" "$work/tum_rawlog_rec/cloud.ply" || fail "cloud.ply differs between folder and rawlog"
+PYTHONPATH="$here" py "
+import json, math
+d = json.load(open('$work/tum_rec.json'))
+assert d['input_format'] == 'tum_folder' and d['scans'] == 4 and d['pose_matching'] == 'order', d['input_format']
+assert d['cloud_points'] > 1000, d['cloud_points']
+k = d['depth_camera']
+assert (k['width'], k['height'], k['fx'], k['cy'], k['depth_scale']) == (160, 120, 150, 59.5, 1000), k
+assert d['registration_error']['reported']['raw']['max_sensor_translation_mm'] < 1e-6, d['registration_error']
+c = json.load(open('$work/tum_convert.json'))
+assert c['format'] == 'rawlog' and c['scans'] == 4, c
+r = json.load(open('$work/tum_rawlog_rec.json'))
+assert r['input_format'] == 'rawlog' and r['poses_orthonormalised'] == 0 and r['cloud_points'] == d['cloud_points'], r
+# Every fused point on the sphere (1 mm depth steps).
+from plyfile import read
+cloud, _ = read('$work/tum_rec/cloud.ply')
+xs, ys, zs = cloud['x'][1], cloud['y'][1], cloud['z'][1]
+worst = max(abs(math.sqrt(x * x + y * y + z * z) - 0.05) for x, y, z in zip(xs, ys, zs))
+assert worst < 0.002, worst
+" || fail "TUM folder reconstruction summary or geometry wrong"
+
+# A camera.json in the folder replaces the flags; a quaternion off unit
+# length (0.9999) is normalised and counted.
+printf '{"fx": 150, "fy": 150, "cx": 79.5, "cy": 59.5, "depth_scale": 1000}\n' >"$tum/camera.json"
+py "
+lines = open('$tum/poses.txt').read().splitlines()
+f = lines[2].split(); q = [float(v) * 0.9999 for v in f[4:]]
+lines[2] = ' '.join(f[:4] + ['%.12f' % v for v in q])
+open('$work/poses_q.txt', 'w').write('\n'.join(lines) + '\n')
+"
+"$ICRKIT" reconstruct "$tum" -o "$work/tum_camera" --poses "$work/poses_q.txt" "${fast_flags[@]}" --json \
+  >"$work/tum_camera.json" 2>"$work/err" || fail "reconstruct with camera.json failed: $(cat "$work/err")"
+py "
+import json
+d = json.load(open('$work/tum_camera.json'))
+assert d['depth_camera']['intrinsics_source'].endswith('camera.json'), d['depth_camera']
+assert d['depth_camera']['depth_scale_source'].endswith('camera.json'), d['depth_camera']
+assert d['poses_orthonormalised'] >= 1, d['poses_orthonormalised']
+" || fail "camera.json or quaternion normalisation not reported"
+rm "$tum/camera.json"
+
+# Bad folders: exit 2, one line naming the file (and line or scan).
+expect_input_error "intrinsics" "$ICRKIT" reconstruct "$tum" -o "$work/bad_t1" --poses "$tum/poses.txt"
+expect_input_error "--intrinsics" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad_t2" \
+  --intrinsics 1,1,1,1
+expect_input_error "--intrinsics" "$ICRKIT" reconstruct "$tum" -o "$work/bad_t3" --intrinsics 150,150,79.5
+head -n 4 "$tum/poses.txt" >"$work/three_poses.txt"
+sed -i 's/^103.000000 /109.000000 /' "$tum/depth.txt"
+expect_input_error "three_poses.txt:scan 3" "$ICRKIT" reconstruct "$tum" -o "$work/bad_t4" "${camera_flags[@]}" \
+  --poses "$work/three_poses.txt"
+[ ! -e "$work/bad_t4" ] || fail "a run with unmatched poses created its output directory"
+mv "$tum/depth/101.000000.png" "$work/moved.png"
+expect_input_error "depth.txt:line 4" "$ICRKIT" reconstruct "$tum" -o "$work/bad_t5" "${camera_flags[@]}"
+tum_py "png('$tum/depth/101.000000.png', [[100] * W for _ in range(H)], bits=8)"
+expect_input_error "expected a 16-bit depth image" "$ICRKIT" reconstruct "$tum" -o "$work/bad_t6" "${camera_flags[@]}"
+grep -q "101.000000.png" "$work/err" || fail "the 8-bit image is not named: $(cat "$work/err")"
+expect_input_error "101.000000.png" "$ICRKIT" convert "$tum" "$work/bad.rawlog" "${camera_flags[@]}"
+[ ! -e "$work/bad.rawlog" ] || fail "a failed conversion left a rawlog behind"
+rm "$tum/depth.txt"
+expect_input_error "depth.txt" "$ICRKIT" reconstruct "$tum" -o "$work/bad_t7" "${camera_flags[@]}"
+expect_input_error "rawlog" "$ICRKIT" convert "$tum" "$work/bad.ply" "${camera_flags[@]}"
+expect_input_error "only a TUM RGB-D folder" "$ICRKIT" convert "$work/cup/scans.rawlog" "$work/cup.rawlog"
+
+# --- The shared bunny recording: its TUM folder and its rawlog.
+data="${ICRKIT_SHARED_DATA_DIR:-}"
+bunny="$data/primesense-bunny"
+if [ -z "$data" ] || [ ! -f "$bunny/tum/depth.txt" ] || [ ! -f "$bunny/scans.rawlog" ]; then
+  echo "note: shared primesense-bunny data not found under '${data}'; its checks skipped" >&2
+else
+  bunny_flags=(--intrinsics 542,540.5,320,240 --depth-scale 1000)
+  "$ICRKIT" reconstruct "$bunny/tum" -o "$work/bunny_folder" "${bunny_flags[@]}" --poses "$bunny/tum/reported.txt" \
+    --gt-poses "$bunny/tum/groundtruth.txt" --no-registration --no-meshes --json >"$work/bunny_folder.json" \
+    2>"$work/err" || fail "reconstruct of the bunny folder failed: $(cat "$work/err")"
+  "$ICRKIT" convert "$bunny/tum" "$work/bunny.rawlog" "${bunny_flags[@]}" --poses "$bunny/tum/reported.txt" -q \
+    >/dev/null 2>"$work/err" || fail "convert of the bunny folder failed: $(cat "$work/err")"
+  "$ICRKIT" reconstruct "$work/bunny.rawlog" -o "$work/bunny_rawlog" --gt-poses "$bunny/ground_truth.txt" \
+    --no-registration --no-meshes --json >"$work/bunny_rawlog.json" 2>"$work/err" ||
+    fail "reconstruct of the converted bunny rawlog failed: $(cat "$work/err")"
+  cmp -s "$work/bunny_folder/poses.txt" "$work/bunny_rawlog/poses.txt" || fail "bunny poses.txt: folder != rawlog"
+  cmp -s "$work/bunny_folder/cloud.ply" "$work/bunny_rawlog/cloud.ply" || fail "bunny cloud.ply: folder != rawlog"
+  py "
+import json
+f = json.load(open('$work/bunny_folder.json')); r = json.load(open('$work/bunny_rawlog.json'))
+assert f['scans'] == r['scans'] == 18, (f['scans'], r['scans'])
+assert f['poses_orthonormalised'] == 18, f['poses_orthonormalised']  # 9-digit quaternions
+# The same ground truth in optical (folder) and MRPT (rawlog) axes.
+ef, er = f['registration_error']['reported']['raw'], r['registration_error']['reported']['raw']
+for k in ef:
+    assert abs(ef[k] - er[k]) < 1e-4, (k, ef[k], er[k])
+" || fail "bunny folder and rawlog summaries disagree"
+  # The recorded rawlog: its sensorPose matrices are either within the
+  # documented tolerance (loaded and counted) or refused naming the scan.
+  "$ICRKIT" reconstruct "$bunny/scans.rawlog" -o "$work/bunny_recorded" --no-registration --no-meshes --json \
+    >"$work/bunny_recorded.json" 2>"$work/err"
+  code=$?
+  if [ "$code" -eq 0 ]; then
+    [ "$(json_field "['poses_orthonormalised']" <"$work/bunny_recorded.json")" -eq 18 ] ||
+      fail "the bunny rawlog's rounded poses were not counted"
+  else
+    [ "$code" -eq 2 ] && grep -q "scans.rawlog:scan 0: the rotation matrix is not orthonormal" "$work/err" ||
+      fail "the bunny rawlog failed without naming the scan: $(cat "$work/err")"
+    "$ICRKIT" reconstruct "$bunny/scans.rawlog" -o "$work/bunny_recorded" --no-registration --no-meshes --json \
+      --rotation-tolerance 0.01 >"$work/bunny_recorded.json" 2>"$work/err" ||
+      fail "--rotation-tolerance 0.01 did not load the bunny rawlog: $(cat "$work/err")"
+    [ "$(json_field "['poses_orthonormalised']" <"$work/bunny_recorded.json")" -eq 18 ] ||
+      fail "the bunny rawlog's projected poses were not counted"
+  fi
+fi
 
 [ "$failures" -eq 0 ] || { echo "$failures check(s) failed" >&2; exit 1; }
 echo "cli_reconstruct: all checks passed"

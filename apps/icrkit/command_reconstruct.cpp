@@ -1,17 +1,23 @@
-// `icrkit reconstruct RAWLOG -o DIR`: the whole of Section II-A
-// (reconstruction::reconstructRawlog) and its files: DIR/cloud.ply (fused
-// cloud), DIR/raw.ply and DIR/filtered.ply (meshes), DIR/poses.txt (TUM,
-// the rawlog's sensor axes) and DIR/reconstruction.json.
+// `icrkit reconstruct RAWLOG|FOLDER -o DIR`: the whole of Section II-A
+// (reconstruction::reconstructRawlog) on a rawlog or a TUM RGB-D folder, and
+// its files: DIR/cloud.ply (fused cloud), DIR/raw.ply and DIR/filtered.ply
+// (meshes), DIR/poses.txt (TUM, MRPT's sensor axes, like a rawlog's
+// sensorPose) and DIR/reconstruction.json.
 
 #include "argument_parsing.hpp"
 #include "commands.hpp"
+#include "depth_folder_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/pose.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+#include <icrkit/reconstruction/scan_source.hpp>
 #include <icrkit/reconstruction/trajectory_error.hpp>
+#include <icrkit/reconstruction/tum_folder_reader.hpp>
 
+#include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -35,6 +41,8 @@ struct ReconstructOptions {
   double crop_size = 0.15;
   bool no_plane = false;
   bool no_registration = false;
+  bool scan_to_model = false;
+  std::string write_registration_input;
   bool no_jump_edges = false;
   bool no_meshes = false;
   int min_confidence = 0;
@@ -45,6 +53,9 @@ struct ReconstructOptions {
   int passes = 1;
   double board_square = 0.0;
   std::string board_origin;
+  DepthFolderFlags folder;
+  double rotation_tolerance = kReadRotationTolerance;
+  const CLI::App* command = nullptr;  // which options were given
 };
 
 Eigen::AlignedBox3d parseBox(const std::string& option, const std::string& text) {
@@ -81,6 +92,18 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   reconstruction::ReconstructionParameters params;
   params.pose_file = options.poses;
   params.images_folder = options.images;
+  const bool folder = reconstruction::isDepthImageFolder(options.input);
+  if (folder) {
+    if (!options.images.empty())
+      throw InputError("--images", "", "applies to a rawlog input (its externally stored images), not a folder");
+    params.depth_camera = depthCameraOptions(options.folder);
+    params.max_time_difference = options.folder.max_time_difference;
+  } else {
+    refuseDepthFolderOptions(*options.command, options.folder);
+  }
+  if (!(options.rotation_tolerance >= 0) || !std::isfinite(options.rotation_tolerance))
+    throw InputError("--rotation-tolerance", "", "expected max |R^T R - I| >= 0");
+  params.rotation_tolerance = options.rotation_tolerance;
   if (!options.range_correction.empty())
     params.range_correction = reconstruction::readRangeErrorModel(options.range_correction);
   if (!options.crop.empty()) params.crop_box = parseBox("--crop", options.crop);
@@ -89,6 +112,10 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   params.auto_crop_half_size = options.crop_size;
   params.remove_support_plane = !options.no_plane;
   params.register_scans = !options.no_registration;
+  params.registration.scan_to_model = options.scan_to_model;
+  params.keep_registration_input = !options.write_registration_input.empty();
+  if (params.keep_registration_input && options.no_registration)
+    throw InputError("--write-registration-input", "", "needs registration (drop --no-registration)");
   if (!options.board_origin.empty() && options.board_square == 0.0)
     throw InputError("--board-origin", "", "needs --board-square (the checkerboard's square size)");
   if (options.board_square != 0.0) {
@@ -119,8 +146,29 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   if (options.passes < 1) throw InputError("--passes", "", "expected at least 1");
   params.smoothing.passes = options.passes;
 
+  // The ground truth is read (and for a folder matched to its frames)
+  // before the long run, so that a bad file fails at once.
   std::vector<StampedPose> truth;
-  if (!options.gt_poses.empty()) truth = readTumTrajectory(options.gt_poses);
+  std::size_t truth_normalised = 0;
+  if (!options.gt_poses.empty()) {
+    std::vector<std::uint8_t> normalised;
+    if (folder) {
+      reconstruction::TumFolderOptions probe_options;
+      probe_options.camera = params.depth_camera;
+      probe_options.unproject = false;
+      const reconstruction::TumFolderReader probe(options.input, probe_options);
+      std::vector<double> times;
+      for (const auto& frame : probe.frames()) times.push_back(frame.timestamp);
+      // The folder's ground truth is in its own (optical) axes, like --poses.
+      const reconstruction::MatchedPoses matched =
+          reconstruction::matchOpticalPoses(options.gt_poses, times, params.max_time_difference);
+      for (std::size_t i = 0; i < times.size(); ++i) truth.push_back({times[i], matched.sensor_poses[i]});
+      normalised = matched.normalised;
+    } else {
+      truth = readTumTrajectory(options.gt_poses, &normalised);
+    }
+    truth_normalised = static_cast<std::size_t>(std::count(normalised.begin(), normalised.end(), 1));
+  }
   const fs::path dir(options.output);
   std::error_code error;
   if (fs::exists(dir, error) && !fs::is_directory(dir, error))
@@ -128,6 +176,10 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
 
   const reconstruction::ReconstructionResult result =
       reconstruction::reconstructRawlog(options.input, params, context.progress());
+  if (result.depth_camera) {
+    const std::string note = depthScaleNote(*result.depth_camera);
+    if (!note.empty()) context.note(note);
+  }
   const std::size_t n = result.poses.size();
   if (!truth.empty() && truth.size() < n)
     throw InputError(options.gt_poses, "scan " + std::to_string(truth.size()),
@@ -146,6 +198,19 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   std::vector<StampedPose> poses;
   for (std::size_t i = 0; i < n; ++i) poses.push_back({result.timestamps[i], result.poses[i]});
   writeTumTrajectory((dir / "poses.txt").string(), poses);
+  if (!options.write_registration_input.empty()) {
+    const fs::path views(options.write_registration_input);
+    fs::create_directories(views, error);
+    if (error) throw InputError(options.write_registration_input, "", "cannot create the directory: " + error.message());
+    std::vector<StampedPose> starts;
+    for (std::size_t i = 0; i < result.registration_input.size(); ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "view_%03zu.ply", i);
+      io::writePointCloud((views / name).string(), result.registration_input[i]);
+      starts.push_back({result.timestamps[i], result.reported_poses[i]});
+    }
+    writeTumTrajectory((views / "start.txt").string(), starts);
+  }
 
   constexpr double kDeg = 180.0 / M_PI;
   nlohmann::json scans = nlohmann::json::array();
@@ -190,8 +255,13 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   const auto& loop = result.registration.loop_closure;
   nlohmann::json summary{
       {"input", options.input},
+      {"input_format", folder ? "tum_folder" : "rawlog"},
       {"output", options.output},
       {"scans", n},
+      {"poses", options.poses.empty() ? nlohmann::json(nullptr) : nlohmann::json(options.poses)},
+      {"pose_matching", result.pose_matching},
+      {"poses_orthonormalised", result.poses_orthonormalised},
+      {"depth_camera", result.depth_camera ? depthCameraJson(*result.depth_camera) : nlohmann::json(nullptr)},
       {"crop_box_m", {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()}},
       {"crop_box_automatic", result.crop_box_automatic},
       {"scan_spacing_m", result.scan_spacing_m},
@@ -224,6 +294,23 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
         {"model_points", result.registration.model_points},
         {"ndt_resolutions_m", result.registration.resolutions},
         {"pair_variance_factor", result.registration.pair_variance_factor},
+        {"scan_to_model", params.registration.scan_to_model},
+        {"multiway_rounds", result.registration.refinement_rounds},
+        {"icp_median_rms_mm", [&] {
+           std::vector<double> rms;
+           for (const auto& p : result.registration.pairs)
+             if (p.accepted && p.icp_rms_m > 0) rms.push_back(p.icp_rms_m * 1e3);
+           if (rms.empty()) return 0.0;
+           std::nth_element(rms.begin(), rms.begin() + static_cast<std::ptrdiff_t>(rms.size() / 2), rms.end());
+           return rms[rms.size() / 2];
+         }()},
+        {"robot_precision",
+         {{"measured_odometry_sigma_mm", result.registration.measured_odometry_sigma_translation_m * 1e3},
+          {"measured_odometry_sigma_deg", result.registration.measured_odometry_sigma_rotation_rad * kDeg},
+          {"odometry_sigma_mm", result.registration.odometry_sigma_translation_m * 1e3},
+          {"odometry_sigma_deg", result.registration.odometry_sigma_rotation_rad * kDeg},
+          {"prior_sigma_mm", result.registration.prior_sigma_translation_m * 1e3},
+          {"prior_sigma_deg", result.registration.prior_sigma_rotation_rad * kDeg}}},
         {"first_scan_spacing_m", result.registration.first_scan_spacing_m}}},
       {"fusion",
        {{"points_in", result.fusion.points_in},
@@ -261,12 +348,12 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
           {"rotation_deg", registered.aligned.rotation_rad[i] * kDeg},
           {"reported_object_translation_mm", reported.aligned.object_translation_m[i] * 1e3},
           {"reported_rotation_deg", reported.aligned.rotation_rad[i] * kDeg}};
-    summary["registration_error"] = {{"ground_truth", options.gt_poses},
-                                     {"object_point_m", {centre.x(), centre.y(), centre.z()}},
-                                     {"registered", {{"raw", poseErrorJson(registered.raw)},
-                                                     {"aligned", poseErrorJson(registered.aligned)}}},
-                                     {"reported", {{"raw", poseErrorJson(reported.raw)},
-                                                   {"aligned", poseErrorJson(reported.aligned)}}}};
+    summary["registration_error"] = {
+        {"ground_truth", options.gt_poses},
+        {"ground_truth_poses_orthonormalised", truth_normalised},
+        {"object_point_m", {centre.x(), centre.y(), centre.z()}},
+        {"registered", {{"raw", poseErrorJson(registered.raw)}, {"aligned", poseErrorJson(registered.aligned)}}},
+        {"reported", {{"raw", poseErrorJson(reported.raw)}, {"aligned", poseErrorJson(reported.aligned)}}}};
   }
   const auto& t = result.times;
   summary["time_ms"] = {{"read", t.read_ms},         {"filters", t.filter_ms},
@@ -288,16 +375,30 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
       "(confidence, jump edges, range, crop box, support plane), scan-to-model 3D-NDT registration from the "
       "reported poses, pair-wise registrations and loop closure in a pose graph (CHOLMOD), OctoMap fusion, then "
       "ball pivoting of the fused cloud (raw mesh) and of its 3D-NDT smoothed, preselected version (filtered "
-      "mesh). Writes DIR/cloud.ply, DIR/raw.ply, DIR/filtered.ply, DIR/poses.txt (TUM, the rawlog's sensor "
-      "axes) and DIR/reconstruction.json");
+      "mesh). Writes DIR/cloud.ply, DIR/raw.ply, DIR/filtered.ply, DIR/poses.txt (TUM, MRPT's sensor axes like a "
+      "rawlog's sensorPose, for a folder too) and DIR/reconstruction.json. The input may also be a TUM RGB-D "
+      "folder (depth.txt, 16-bit depth PNGs; docs/reconstruction_input.md)");
   auto options = std::make_shared<ReconstructOptions>();
-  command->add_option("input", options->input, "Rawlog of CObservation3DRangeScan (plain or gzip)")->required();
+  options->command = command;
+  command
+      ->add_option("input", options->input,
+                   "Rawlog of CObservation3DRangeScan (plain or gzip), or a TUM RGB-D folder (depth.txt, depth/*.png)")
+      ->required();
   command->add_option("-o,--output", options->output, "Output directory (created; files replaced atomically)")
       ->required();
   command->add_option("--poses", options->poses,
-                      "TUM file whose i-th pose replaces the i-th scan's sensorPose (MRPT sensor axes)");
+                      "TUM file of the sensor poses. Rawlog: MRPT sensor axes (x forward, y left, z up), the i-th "
+                      "pose replaces the i-th scan's sensorPose. TUM folder: OPTICAL axes (x right, y down, z "
+                      "forward), camera to object, like the folder's groundtruth.txt; matched by order or time stamp");
   command->add_option("--gt-poses", options->gt_poses,
-                      "TUM file of true sensor poses: the summary then reports the registration error");
+                      "TUM file of true sensor poses, in the same axes and matched as --poses: the summary then "
+                      "reports the registration error");
+  addDepthFolderOptions(*command, options->folder);
+  command
+      ->add_option("--rotation-tolerance", options->rotation_tolerance,
+                   "Largest max |R^T R - I| of a rawlog's sensorPose rotation that is projected onto the nearest "
+                   "rotation (counted as poses_orthonormalised); beyond it the scan is refused")
+      ->capture_default_str();
   command->add_option("--images", options->images, "Folder of externally stored images (default: <rawlog>_Images)");
   command->add_option("--range-correction", options->range_correction,
                       "ToF range error model (JSON from `icrkit calibrate-range`) removed from every scan first");
@@ -308,6 +409,12 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
       ->capture_default_str();
   command->add_flag("--no-plane-removal", options->no_plane, "Keep the support plane (table, plate)");
   command->add_flag("--no-registration", options->no_registration, "Fuse at the reported poses");
+  command->add_flag("--scan-to-model", options->scan_to_model,
+                    "Register each scan against the scans before it first (the paper's sequential pass; slower, "
+                    "rarely better: docs/reconstruction.md)");
+  command->add_option("--write-registration-input", options->write_registration_input,
+                      "Also write each scan's object points (sensor frame) and starting pose to this folder "
+                      "(view_NNN.ply, start.txt): the registration's exact input, for other tools");
   command->add_option("--board-square", options->board_square,
                       "Setup B: the object stands on a checkerboard with squares of this size (metres) whose lines "
                       "lie on the object frame's x and y axes; each scan's camera pose found on it (intensity image) "

@@ -5,12 +5,54 @@
 
 #include "io/text_scanner.hpp"
 
+#include <Eigen/SVD>
+
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace icrkit {
 
-StampedPose parseTumLine(std::string_view line, const std::string& source, std::size_t line_number) {
+namespace {
+
+std::string scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2g", value);
+  return text;
+}
+
+}  // namespace
+
+double orthonormalityError(const Eigen::Matrix3d& m) {
+  return (m.transpose() * m - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+}
+
+Eigen::Matrix3d nearestRotation(const Eigen::Matrix3d& m) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return svd.matrixU() * svd.matrixV().transpose();
+}
+
+bool orthonormaliseReadPose(Eigen::Isometry3d& pose, const std::string& source, const std::string& location,
+                            double tolerance) {
+  if (!pose.matrix().allFinite()) throw InputError(source, location, "the pose holds a non-finite number");
+  const Eigen::Matrix3d r = pose.linear();
+  const double error = orthonormalityError(r);
+  const double determinant = r.determinant();
+  if (!(determinant > 0))
+    throw InputError(source, location,
+                     "the rotation matrix has determinant " + scientific(determinant) +
+                         " (a reflection or a degenerate matrix), expected a rotation");
+  if (!(error <= tolerance))
+    throw InputError(source, location,
+                     "the rotation matrix is not orthonormal: max |R^T R - I| = " + scientific(error) +
+                         ", more than the " + scientific(tolerance) +
+                         " that rounding of a pose log explains (expected a rotation)");
+  if (error <= kExactRotationLevel) return false;
+  pose.linear() = nearestRotation(r);
+  return true;
+}
+
+StampedPose parseTumLine(std::string_view line, const std::string& source, std::size_t line_number, bool* normalised) {
   std::vector<std::string_view> tokens;
   io::detail::splitTokens(line, tokens);
   auto fail = [&](const std::string& detail) {
@@ -28,8 +70,9 @@ StampedPose parseTumLine(std::string_view line, const std::string& source, std::
   const double norm = q.norm();
   // TUM files are written with 4-7 digits; anything further from unit length
   // is a different convention or a corrupted line, not rounding.
-  if (std::abs(norm - 1.0) > 1e-3)
+  if (!(std::abs(norm - 1.0) <= kReadQuaternionNormTolerance))
     fail("quaternion (qx qy qz qw) has norm " + std::to_string(norm) + ", expected a unit quaternion");
+  if (normalised) *normalised = std::abs(norm - 1.0) > kExactRotationLevel;
   q.normalize();
   StampedPose pose;
   pose.timestamp = v[0];
@@ -51,16 +94,19 @@ std::string formatTumLine(const StampedPose& pose) {
   return line;
 }
 
-std::vector<StampedPose> readTumTrajectory(const std::string& path) {
+std::vector<StampedPose> readTumTrajectory(const std::string& path, std::vector<std::uint8_t>* normalised) {
   const std::string text = io::readFileBytes(path);
   io::detail::TextScanner scanner(text, path);
   std::vector<StampedPose> poses;
+  if (normalised) normalised->clear();
   while (!scanner.atEnd()) {
     const std::size_t line_number = scanner.line();
     std::string_view line = scanner.restOfLine();
     const std::size_t first = line.find_first_not_of(" \t");
     if (first == std::string_view::npos || line[first] == '#') continue;
-    poses.push_back(parseTumLine(line, path, line_number));
+    bool changed = false;
+    poses.push_back(parseTumLine(line, path, line_number, &changed));
+    if (normalised) normalised->push_back(changed ? 1 : 0);
   }
   return poses;
 }

@@ -75,3 +75,101 @@ TEST(Pose, MrptConversionMatchesYawPitchRoll) {
   EXPECT_NEAR(back.roll(), 0.1, 1e-12);
   EXPECT_NEAR(back.x(), 1.0, 1e-15);
 }
+
+namespace {
+
+// A rotation with its entries disturbed by up to `amount` (a fixed,
+// non-symmetric pattern, as rounding of a written matrix would do).
+Eigen::Isometry3d disturbedPose(double amount) {
+  Eigen::Isometry3d pose =
+      Eigen::Translation3d(0.1, -0.2, 0.7) * Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, -1.0, 0.4).normalized());
+  Eigen::Matrix3d noise;
+  noise << 0.4, -0.9, 0.2,  //
+      -0.3, 0.7, 1.0,       //
+      0.8, -0.1, -0.6;
+  pose.linear() += amount * noise;
+  return pose;
+}
+
+}  // namespace
+
+TEST(Pose, RotationJustInsideTheToleranceIsProjected) {
+  Eigen::Isometry3d pose = disturbedPose(5e-6);
+  const Eigen::Matrix3d before = pose.linear();
+  ASSERT_GT(orthonormalityError(before), 1e-6);
+  ASSERT_LT(orthonormalityError(before), kReadRotationTolerance);
+  EXPECT_TRUE(orthonormaliseReadPose(pose, "poses.txt", "scan 3"));
+  EXPECT_LE(orthonormalityError(pose.linear()), 1e-12);
+  EXPECT_NEAR(pose.linear().determinant(), 1.0, 1e-12);
+  // The nearest rotation: the change is of the size of the disturbance.
+  EXPECT_LT((pose.linear() - before).cwiseAbs().maxCoeff(), 1e-5);
+  EXPECT_EQ(pose.translation(), Eigen::Vector3d(0.1, -0.2, 0.7));
+  // Polar factor: (R^T M) is symmetric positive definite.
+  const Eigen::Matrix3d s = pose.linear().transpose() * before;
+  EXPECT_LT((s - s.transpose()).cwiseAbs().maxCoeff(), 1e-14);
+}
+
+TEST(Pose, RotationAsFarOffAsTheRealBunnyRawlogIsProjected) {
+  // The real PrimeSense rawlog's sensorPose matrices are off by up to 8.5e-3.
+  Eigen::Isometry3d pose = disturbedPose(0.007);
+  ASSERT_GT(orthonormalityError(pose.linear()), 0.005);
+  ASSERT_LT(orthonormalityError(pose.linear()), kReadRotationTolerance);
+  EXPECT_TRUE(orthonormaliseReadPose(pose, "scans.rawlog", "scan 0"));
+  EXPECT_LE(orthonormalityError(pose.linear()), 1e-12);
+  EXPECT_NEAR(pose.linear().determinant(), 1.0, 1e-12);
+}
+
+TEST(Pose, ExactRotationIsLeftAlone) {
+  Eigen::Isometry3d pose = disturbedPose(0.0);
+  const Eigen::Isometry3d before = pose;
+  EXPECT_FALSE(orthonormaliseReadPose(pose, "poses.txt", "scan 0"));
+  EXPECT_EQ(pose.matrix(), before.matrix());
+}
+
+TEST(Pose, RotationBeyondTheToleranceNamesTheScan) {
+  Eigen::Isometry3d pose = disturbedPose(0.03);
+  ASSERT_GT(orthonormalityError(pose.linear()), kReadRotationTolerance);
+  try {
+    orthonormaliseReadPose(pose, "rec.rawlog", "scan 7");
+    FAIL() << "accepted a matrix 0.03 from a rotation";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.source(), "rec.rawlog");
+    EXPECT_EQ(e.location(), "scan 7");
+    EXPECT_NE(e.detail().find("not orthonormal"), std::string::npos) << e.what();
+  }
+  Eigen::Isometry3d mirrored = disturbedPose(0.0);
+  mirrored.linear().col(0) *= -1.0;
+  EXPECT_THROW(orthonormaliseReadPose(mirrored, "rec.rawlog", "scan 1"), InputError);
+  Eigen::Isometry3d broken = disturbedPose(0.0);
+  broken.translation().x() = std::nan("");
+  EXPECT_THROW(orthonormaliseReadPose(broken, "rec.rawlog", "scan 2"), InputError);
+}
+
+TEST(Pose, NearestRotationOfARotationIsItself) {
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(2.5, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  EXPECT_TRUE(nearestRotation(r).isApprox(r, 1e-15));
+  EXPECT_TRUE(nearestRotation(1.001 * r).isApprox(r, 1e-14));
+}
+
+TEST(Pose, TumQuaternionOffUnitLengthIsNormalisedAndFlagged) {
+  bool normalised = false;
+  // 90 degrees about z with a norm of 0.9999.
+  const double c = 0.9999 * std::sqrt(0.5);
+  const std::string line = "2 0 0 0 0 0 " + std::to_string(c) + " " + std::to_string(c);
+  const StampedPose p = parseTumLine(line, "t.txt", 4, &normalised);
+  EXPECT_TRUE(normalised);
+  EXPECT_LE(orthonormalityError(p.pose.linear()), 1e-15);
+  EXPECT_TRUE((p.pose.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), 1e-12));
+  parseTumLine("0.5 1 2 3 0 0 0 1", "t.txt", 3, &normalised);
+  EXPECT_FALSE(normalised);
+
+  test::ScratchDir dir;
+  {
+    std::ofstream out(dir.file("q.txt"));
+    out << "# comment\n1 0 0 0 0 0 0 1\n" << line << "\n";
+  }
+  std::vector<std::uint8_t> flags;
+  const auto poses = readTumTrajectory(dir.file("q.txt"), &flags);
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(flags, (std::vector<std::uint8_t>{0, 1}));
+}

@@ -4,6 +4,8 @@
 
 #include <icrkit/reconstruction/rawlog_reader.hpp>
 
+#include "observation_scan.hpp"
+
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/pose.hpp>
 #include <icrkit/core/pose_mrpt.hpp>
@@ -98,11 +100,100 @@ Eigen::Vector3d opticalPoint(const RangeScan& scan, int row, int col, double ran
   return scan.range_is_depth ? Eigen::Vector3d(ray * range) : Eigen::Vector3d(ray.normalized() * range);
 }
 
+namespace detail {
+
+RangeScan scanFromObservation(CObservation3DRangeScan& obs, std::size_t index, const std::string& path,
+                              const ObservationConversion& conversion) {
+  const std::string where = scanLocation(index);
+  if (!obs.hasRangeImage || obs.rangeImage.cols() == 0 || obs.rangeImage.rows() == 0)
+    throw InputError(path, where, "the 3D scan has no range image");
+
+  RangeScan scan;
+  scan.index = index;
+  scan.timestamp = mrpt::Clock::toDouble(obs.timestamp);
+  scan.sensor_label = obs.sensorLabel;
+  scan.range_is_depth = obs.range_is_depth;
+  scan.max_range = obs.maxRange;
+  scan.width = static_cast<int>(obs.rangeImage.cols());
+  scan.height = static_cast<int>(obs.rangeImage.rows());
+  scan.camera = cameraOf(obs.cameraParams);
+  scan.camera_intensity = cameraOf(obs.cameraParamsIntensity);
+  if (scan.camera.width != scan.width || scan.camera.height != scan.height)
+    throw InputError(path, where,
+                     "range image is " + std::to_string(scan.width) + "x" + std::to_string(scan.height) +
+                         " but cameraParams say " + std::to_string(scan.camera.width) + "x" +
+                         std::to_string(scan.camera.height));
+  if (!(scan.camera.fx > 0 && scan.camera.fy > 0))
+    throw InputError(path, where, "cameraParams have a non-positive focal length");
+  if (!(obs.rangeUnits > 0)) throw InputError(path, where, "rangeUnits is not positive");
+
+  scan.range.resize(static_cast<std::size_t>(scan.width) * scan.height);
+  for (int r = 0; r < scan.height; ++r)
+    for (int c = 0; c < scan.width; ++c)
+      scan.range[static_cast<std::size_t>(r) * scan.width + c] = obs.rangeImage(r, c) * obs.rangeUnits;
+
+  if (obs.hasIntensityImage && !obs.intensityImage.isEmpty()) {
+    scan.intensity = imageOf(obs.intensityImage);
+    scan.intensity_is_ir = obs.intensityImageChannel == CObservation3DRangeScan::CH_IR;
+    if (scan.intensity.width != scan.camera_intensity.width || scan.intensity.height != scan.camera_intensity.height)
+      throw InputError(path, where,
+                       "intensity image is " + std::to_string(scan.intensity.width) + "x" +
+                           std::to_string(scan.intensity.height) + " but cameraParamsIntensity say " +
+                           std::to_string(scan.camera_intensity.width) + "x" +
+                           std::to_string(scan.camera_intensity.height));
+  }
+  if (obs.hasConfidenceImage && !obs.confidenceImage.isEmpty()) {
+    scan.confidence = imageOf(obs.confidenceImage);
+    if (scan.confidence.width != scan.width || scan.confidence.height != scan.height)
+      throw InputError(path, where,
+                       "confidence image is " + std::to_string(scan.confidence.width) + "x" +
+                           std::to_string(scan.confidence.height) + ", the range image " + std::to_string(scan.width) +
+                           "x" + std::to_string(scan.height));
+  }
+
+  if (conversion.pose) {
+    scan.sensor_pose = *conversion.pose;
+    scan.pose_orthonormalised = conversion.pose_normalised;
+    obs.sensorPose = toCPose3D(scan.sensor_pose);
+  } else {
+    scan.sensor_pose = toIsometry(obs.sensorPose);
+    // MRPT unprojects with the observation's own pose: it must be the
+    // repaired one, or the points would carry the scale or shear.
+    scan.pose_orthonormalised = orthonormaliseReadPose(scan.sensor_pose, path, where, conversion.rotation_tolerance);
+    if (scan.pose_orthonormalised) obs.sensorPose = toCPose3D(scan.sensor_pose);
+  }
+
+  if (conversion.unproject) {
+    mrpt::maps::CSimplePointsMap cloud;
+    mrpt::obs::T3DPointsProjectionParams pp;
+    pp.takeIntoAccountSensorPoseOnRobot = true;
+    obs.unprojectInto(cloud, pp);
+    // MRPT records each point's pixel next to the points it unprojects.
+    if (obs.points3D_idxs_x.size() < cloud.size() || obs.points3D_idxs_y.size() < cloud.size())
+      throw InputError(path, where, "internal: MRPT did not report the pixels of its points");
+    scan.points.reserve(cloud.size());
+    scan.pixels.reserve(cloud.size());
+    for (std::size_t k = 0; k < cloud.size(); ++k) {
+      const std::uint32_t pixel =
+          static_cast<std::uint32_t>(obs.points3D_idxs_y[k]) * scan.width + obs.points3D_idxs_x[k];
+      if (pixel >= scan.range.size() || !(scan.range[pixel] > 0.0f)) continue;
+      float x, y, z;
+      cloud.getPoint(k, x, y, z);
+      scan.points.emplace_back(x, y, z);
+      scan.pixels.push_back(pixel);
+    }
+  }
+  return scan;
+}
+
+}  // namespace detail
+
 struct RawlogReader::Impl {
   std::string path;
   RawlogReaderOptions options;
   mrpt::io::CFileGZInputStream stream;
   std::vector<StampedPose> poses;
+  std::vector<std::uint8_t> pose_normalised;         // per pose: its quaternion was off unit length
   std::deque<CObservation3DRangeScan::Ptr> pending;  // the rest of the current sensory frame
   std::size_t scans = 0;
   bool finished = false;
@@ -149,82 +240,17 @@ struct RawlogReader::Impl {
                        "an externally stored image could not be loaded (images folder " +
                            mrpt::img::CImage::getImagesPathBase() + "): " + e.what());
     }
-    if (!obs.hasRangeImage || obs.rangeImage.cols() == 0 || obs.rangeImage.rows() == 0)
-      throw InputError(path, where, "the 3D scan has no range image");
-
-    RangeScan scan;
-    scan.index = index;
-    scan.timestamp = mrpt::Clock::toDouble(obs.timestamp);
-    scan.sensor_label = obs.sensorLabel;
-    scan.sensor_pose = toIsometry(obs.sensorPose);
-    scan.range_is_depth = obs.range_is_depth;
-    scan.max_range = obs.maxRange;
-    scan.width = static_cast<int>(obs.rangeImage.cols());
-    scan.height = static_cast<int>(obs.rangeImage.rows());
-    scan.camera = cameraOf(obs.cameraParams);
-    scan.camera_intensity = cameraOf(obs.cameraParamsIntensity);
-    if (scan.camera.width != scan.width || scan.camera.height != scan.height)
-      throw InputError(path, where,
-                       "range image is " + std::to_string(scan.width) + "x" + std::to_string(scan.height) +
-                           " but cameraParams say " + std::to_string(scan.camera.width) + "x" +
-                           std::to_string(scan.camera.height));
-    if (!(scan.camera.fx > 0 && scan.camera.fy > 0))
-      throw InputError(path, where, "cameraParams have a non-positive focal length");
-    if (!(obs.rangeUnits > 0))
-      throw InputError(path, where, "rangeUnits is not positive");
-
-    scan.range.resize(static_cast<std::size_t>(scan.width) * scan.height);
-    for (int r = 0; r < scan.height; ++r)
-      for (int c = 0; c < scan.width; ++c)
-        scan.range[static_cast<std::size_t>(r) * scan.width + c] = obs.rangeImage(r, c) * obs.rangeUnits;
-
-    if (obs.hasIntensityImage && !obs.intensityImage.isEmpty()) {
-      scan.intensity = imageOf(obs.intensityImage);
-      scan.intensity_is_ir = obs.intensityImageChannel == CObservation3DRangeScan::CH_IR;
-      if (scan.intensity.width != scan.camera_intensity.width || scan.intensity.height != scan.camera_intensity.height)
-        throw InputError(path, where,
-                         "intensity image is " + std::to_string(scan.intensity.width) + "x" +
-                             std::to_string(scan.intensity.height) + " but cameraParamsIntensity say " +
-                             std::to_string(scan.camera_intensity.width) + "x" +
-                             std::to_string(scan.camera_intensity.height));
-    }
-    if (obs.hasConfidenceImage && !obs.confidenceImage.isEmpty()) {
-      scan.confidence = imageOf(obs.confidenceImage);
-      if (scan.confidence.width != scan.width || scan.confidence.height != scan.height)
-        throw InputError(path, where,
-                         "confidence image is " + std::to_string(scan.confidence.width) + "x" +
-                             std::to_string(scan.confidence.height) + ", the range image " +
-                             std::to_string(scan.width) + "x" + std::to_string(scan.height));
-    }
-
+    detail::ObservationConversion conversion;
+    conversion.rotation_tolerance = options.rotation_tolerance;
+    conversion.unproject = options.unproject;
     if (!options.pose_file.empty()) {
       if (index >= poses.size())
         throw InputError(options.pose_file, where,
                          "only " + std::to_string(poses.size()) + " poses for the scans of " + path);
-      scan.sensor_pose = poses[index].pose;
-      obs.sensorPose = toCPose3D(scan.sensor_pose);
+      conversion.pose = &poses[index].pose;
+      conversion.pose_normalised = pose_normalised[index] != 0;
     }
-
-    if (options.unproject) {
-      mrpt::maps::CSimplePointsMap cloud;
-      mrpt::obs::T3DPointsProjectionParams pp;
-      pp.takeIntoAccountSensorPoseOnRobot = true;
-      obs.unprojectInto(cloud, pp);
-      // MRPT records each point's pixel next to the points it unprojects.
-      if (obs.points3D_idxs_x.size() < cloud.size() || obs.points3D_idxs_y.size() < cloud.size())
-        throw InputError(path, where, "internal: MRPT did not report the pixels of its points");
-      scan.points.reserve(cloud.size());
-      scan.pixels.reserve(cloud.size());
-      for (std::size_t k = 0; k < cloud.size(); ++k) {
-        const std::uint32_t pixel =
-            static_cast<std::uint32_t>(obs.points3D_idxs_y[k]) * scan.width + obs.points3D_idxs_x[k];
-        if (pixel >= scan.range.size() || !(scan.range[pixel] > 0.0f)) continue;
-        float x, y, z;
-        cloud.getPoint(k, x, y, z);
-        scan.points.emplace_back(x, y, z);
-        scan.pixels.push_back(pixel);
-      }
-    }
+    RangeScan scan = detail::scanFromObservation(obs, index, path, conversion);
     obs.unload();
     return scan;
   }
@@ -235,7 +261,8 @@ RawlogReader::RawlogReader(const std::string& path, RawlogReaderOptions options)
   impl_->options = std::move(options);
   std::error_code error;
   if (!fs::is_regular_file(path, error)) throw InputError(path, "", "no such rawlog file");
-  if (!impl_->options.pose_file.empty()) impl_->poses = readTumTrajectory(impl_->options.pose_file);
+  if (!impl_->options.pose_file.empty())
+    impl_->poses = readTumTrajectory(impl_->options.pose_file, &impl_->pose_normalised);
   std::string images = impl_->options.images_folder;
   if (images.empty()) {
     const fs::path p(path);

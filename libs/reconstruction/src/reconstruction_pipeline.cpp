@@ -2,7 +2,7 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
-#include <icrkit/reconstruction/rawlog_reader.hpp>
+#include <icrkit/reconstruction/scan_source.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -21,10 +21,13 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-RawlogReaderOptions readerOptions(const ReconstructionParameters& params, bool unproject) {
-  RawlogReaderOptions options;
+ScanReaderOptions readerOptions(const ReconstructionParameters& params, bool unproject) {
+  ScanReaderOptions options;
   options.pose_file = params.pose_file;
   options.images_folder = params.images_folder;
+  options.depth_camera = params.depth_camera;
+  options.max_time_difference = params.max_time_difference;
+  options.rotation_tolerance = params.rotation_tolerance;
   options.unproject = unproject;
   return options;
 }
@@ -79,11 +82,11 @@ void orientTowardsViewpoints(PointCloud& cloud, const std::vector<Eigen::Vector3
     if (cloud.normals[i].dot(viewpoints[i] - cloud.positions[i]) < 0) cloud.normals[i] = -cloud.normals[i];
 }
 
-// Scan i of a pass over the rawlog, filtered (see filterScan), with the
+// Scan i of a pass over the recording, filtered (see filterScan), with the
 // reading and filtering times added to `times`.
 // With `board_pose`, the checkerboard pose is taken from the scan as read
 // (before any filter touches its range image).
-RangeScan nextFilteredScan(RawlogReader& reader, const std::string& rawlog, std::size_t i,
+RangeScan nextFilteredScan(ScanReader& reader, const std::string& rawlog, std::size_t i,
                            const ReconstructionParameters& params, const Eigen::AlignedBox3d& box,
                            std::vector<std::uint8_t>& object, ScanFilterRecord& record, ReconstructionTimes& times,
                            LatticePose* board_pose = nullptr) {
@@ -144,12 +147,15 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
   // Pass 0: the poses only, for the automatic crop box and the scan count.
   {
     const auto start = Clock::now();
-    RawlogReader reader(rawlog, readerOptions(params, false));
+    ScanReader reader(rawlog, readerOptions(params, false));
     while (auto scan = reader.next()) {
       result.reported_poses.push_back(scan->sensor_pose);
       result.timestamps.push_back(scan->timestamp);
+      result.poses_orthonormalised += scan->pose_orthonormalised;
       report(progress, "poses", result.reported_poses.size(), 0);
     }
+    result.pose_matching = reader.poseMatching();
+    result.depth_camera = reader.depthCamera();
     times.read_ms += msSince(start);
   }
   const std::size_t n = result.reported_poses.size();
@@ -169,7 +175,7 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
   std::optional<SequenceRegistration> registration;
   if (params.register_scans) registration.emplace(params.registration);
   {
-    RawlogReader reader(rawlog, readerOptions(params, true));
+    ScanReader reader(rawlog, readerOptions(params, true));
     for (std::size_t i = 0; i < n; ++i) {
       std::vector<std::uint8_t> object;
       ScanFilterRecord& record = result.filters.emplace_back();
@@ -203,7 +209,9 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
       }
       if (registration) {
         const auto start = Clock::now();
-        registration->add(objectPointsInSensorFrame(scan, object), scan.sensor_pose, board_prior);
+        PointCloud points = objectPointsInSensorFrame(scan, object);
+        registration->add(points, scan.sensor_pose, board_prior);
+        if (params.keep_registration_input) result.registration_input.push_back(std::move(points));
         times.registration_ms += msSince(start);
       }
       report(progress, "registration", i + 1, n);
@@ -224,7 +232,7 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
   fusion_params.bounds = result.crop_box;
   {
     OctreeFusion fusion(fusion_params);
-    RawlogReader reader(rawlog, readerOptions(params, true));
+    ScanReader reader(rawlog, readerOptions(params, true));
     for (std::size_t i = 0; i < n; ++i) {
       std::vector<std::uint8_t> object;
       ScanFilterRecord record;

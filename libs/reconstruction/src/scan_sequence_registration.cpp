@@ -4,11 +4,14 @@
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 
+#include <icrkit/reconstruction/pose_graph_variance.hpp>
+
 #include "registration_observability.hpp"
 
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -169,9 +172,31 @@ struct SequenceRegistration::Impl {
     return cubes.centroids().positions;
   }
 
+  // The NDT of the scan-to-model pass and of the pairs: with the ICP's
+  // fine stage after it, only its cells of at least
+  // `icp_coarsest_finish` (the ICP finishes from there).
+  ndt::NdtParameters coarseNdt() const {
+    ndt::NdtParameters ndt = params.ndt;
+    if (!params.icp_refinement) return ndt;
+    std::vector<double> kept;
+    for (double r : ndt.resolutions)
+      if (r >= params.icp_coarsest_finish) kept.push_back(r);
+    if (kept.empty()) kept.push_back(ndt.resolutions.front());
+    ndt.resolutions = kept;
+    return ndt;
+  }
+
   double first_spacing = 0.0;
   void adaptResolutions(const std::vector<Eigen::Vector3d>& points) {
     first_spacing = nearestNeighbourSpacing(points).median;
+    // The ICP's pairing distances and kernel are a depth camera's at arm's
+    // length (~1 mm spacing and noise); a sparser, noisier camera (a
+    // 176 x 144 ToF sensor: 2-3 mm) gets them scaled with its spacing.
+    if (params.icp_spacing_reference > 0 && first_spacing > params.icp_spacing_reference) {
+      const double scale = first_spacing / params.icp_spacing_reference;
+      for (double& d : params.icp.max_distances) d *= scale;
+      params.icp.kernel_width *= scale;
+    }
     if (!(params.min_resolution_spacing_factor > 0) || !(first_spacing > 0)) return;
     std::vector<double> kept;
     for (double r : params.ndt.resolutions)
@@ -248,16 +273,20 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
   record.model_pose = record.start_pose;
   if (index == 0) s.adaptResolutions(points.positions);
   std::vector<Eigen::Vector3d> reduced = s.reduce(points);
-  std::vector<Eigen::Vector3d> normals = s.surfaceNormals(reduced);
+  // Only the scan-to-model pass needs them now; finish() estimates the
+  // others for all scans at once, in parallel.
+  std::vector<Eigen::Vector3d> normals;
+  if (s.params.scan_to_model) normals = s.surfaceNormals(reduced);
 
-  if (index == 0) {
+  if (index == 0 || !s.params.scan_to_model) {
     record.model_pose = initial_pose;
     record.start_pose = initial_pose;
+    if (index > 0) record.rejection = "scan-to-model registration is off";
   } else if (!s.target) {
     record.rejection = "no model to register against (every earlier scan was rejected)";
   } else {
     record.model_points = s.target->size();
-    ndt::NdtParameters ndt = s.params.ndt;
+    const ndt::NdtParameters ndt = s.coarseNdt();
     try {
       ndt::NdtResult r = ndt::registerNdt(positionsOnly(reduced), *s.target, record.start_pose, ndt);
       const Observability o = scanObservability(reduced, normals, record.start_pose, s.params.degeneracy_ratio);
@@ -280,11 +309,11 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
   record.correction_translation_m = moved.translation().norm();
   record.correction_rotation_rad = rotationAngle(moved);
 
-  if (index == 0 || record.registered) {
+  if (s.params.scan_to_model && (index == 0 || record.registered)) {
     s.correction = moved;
     s.model.add(points.positions, record.model_pose);
     try {
-      s.target.emplace(s.model.centroids(), s.params.ndt);
+      s.target.emplace(s.model.centroids(), s.coarseNdt());
     } catch (const InputError&) {
       // Too few points for any Gaussian yet: later scans add to the model.
       s.target.reset();
@@ -324,6 +353,48 @@ double overlapFraction(const std::vector<std::int64_t>& a, const std::vector<std
 
 }  // namespace
 
+namespace {
+
+// The pairs to register at `poses`: the best-overlapping partners of every
+// scan and, optionally, the last/first pair (loop closure).
+std::map<std::pair<std::size_t, std::size_t>, double> choosePairs(
+    const std::vector<std::vector<Eigen::Vector3d>>& reduced, const std::vector<Eigen::Isometry3d>& poses,
+    const SequenceRegistrationParameters& params) {
+  const std::size_t n = reduced.size();
+  std::vector<std::vector<std::int64_t>> cubes(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { cubes[i] = occupiedCubes(reduced[i], poses[i]); });
+  std::map<std::pair<std::size_t, std::size_t>, double> chosen;
+  const std::size_t limit = static_cast<std::size_t>(std::max(0, params.max_partners));
+  for (std::size_t j = 0; j < n; ++j) {
+    std::vector<std::pair<double, std::size_t>> partners;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i == j) continue;
+      const double overlap = overlapFraction(cubes[i], cubes[j]);
+      if (overlap >= params.min_pair_overlap) partners.emplace_back(-overlap, i);
+    }
+    std::sort(partners.begin(), partners.end());
+    if (partners.size() > limit) partners.resize(limit);
+    for (const auto& [negative_overlap, i] : partners) chosen[{std::min(i, j), std::max(i, j)}] = -negative_overlap;
+  }
+  if (params.loop_closure && n >= 3)
+    chosen.emplace(std::make_pair(std::size_t{0}, n - 1), overlapFraction(cubes[0], cubes[n - 1]));
+  // Consecutive scans overlap however poorly the robot placed them: from
+  // poses a centimetre off, their cubes hardly meet.
+  if (params.sequence_pairs)
+    for (std::size_t i = 0; i + 1 < n; ++i) chosen.emplace(std::make_pair(i, i + 1), overlapFraction(cubes[i], cubes[i + 1]));
+  return chosen;
+}
+
+// Robust per-axis sigma of a set of zero-mean components (MAD).
+double robustSigma(std::vector<double> magnitudes) {
+  if (magnitudes.empty()) return 0.0;
+  const auto middle = magnitudes.begin() + static_cast<std::ptrdiff_t>(magnitudes.size() / 2);
+  std::nth_element(magnitudes.begin(), middle, magnitudes.end());
+  return 1.4826 * *middle;
+}
+
+}  // namespace
+
 SequenceRegistrationResult SequenceRegistration::finish() {
   Impl& s = *impl_;
   if (s.finished) throw std::logic_error("SequenceRegistration::finish called twice");
@@ -334,69 +405,341 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   const SequenceRegistrationParameters& params = s.params;
   const std::size_t n = s.records.size();
   SequenceRegistrationResult result;
+  const ndt::NdtParameters pair_ndt = s.coarseNdt();
 
-  // Pairs to register: the best-overlapping partners of every scan, and the
-  // loop closure.
-  std::vector<std::vector<std::int64_t>> cubes(n);
-  for (std::size_t i = 0; i < n; ++i) cubes[i] = occupiedCubes(s.reduced[i], s.records[i].model_pose);
-  std::map<std::pair<std::size_t, std::size_t>, double> chosen;
-  for (std::size_t j = 0; j < n; ++j) {
-    std::vector<std::pair<double, std::size_t>> partners;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (i == j) continue;
-      const double overlap = overlapFraction(cubes[i], cubes[j]);
-      if (overlap >= params.min_pair_overlap) partners.emplace_back(-overlap, i);
-    }
-    std::sort(partners.begin(), partners.end());
-    if (partners.size() > static_cast<std::size_t>(std::max(0, params.max_partners)))
-      partners.resize(static_cast<std::size_t>(std::max(0, params.max_partners)));
-    for (const auto& [negative_overlap, i] : partners) chosen[{std::min(i, j), std::max(i, j)}] = -negative_overlap;
-  }
-  const bool try_loop = params.loop_closure && n >= 3;
-  if (try_loop) chosen.emplace(std::make_pair(std::size_t{0}, n - 1), overlapFraction(cubes[0], cubes[n - 1]));
-
-  result.pairs.reserve(chosen.size());
-  for (const auto& [pair, overlap] : chosen) {
-    PairRegistrationRecord record;
-    record.from = pair.first;
-    record.to = pair.second;
-    record.overlap = overlap;
-    result.pairs.push_back(record);
-  }
-  std::vector<Eigen::Isometry3d> measurements(result.pairs.size(), Eigen::Isometry3d::Identity());
-  std::vector<Matrix6d> hessians(result.pairs.size(), Matrix6d::Zero());
-  std::vector<Matrix6d> projectors(result.pairs.size(), Matrix6d::Identity());
-  // Each pair is independent and deterministic: their order of completion
-  // does not matter.
-  tbb::parallel_for(std::size_t{0}, result.pairs.size(), [&](std::size_t k) {
-    PairRegistrationRecord& pair = result.pairs[k];
-    const Eigen::Isometry3d implied = s.records[pair.from].model_pose.inverse() * s.records[pair.to].model_pose;
+  // Per scan, built once and shared read-only by every pair it is part of:
+  // its NDT target, and for the fine stage its tangent planes (target side)
+  // and a sparser copy of its points (source side).
+  std::vector<std::optional<ndt::NdtTarget>> ndt_targets(n);
+  std::vector<std::optional<IcpTarget>> icp_targets(n);
+  std::vector<std::vector<Eigen::Vector3d>> icp_sources(n), ndt_sources(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     try {
-      const ndt::NdtTarget target(positionsOnly(s.reduced[pair.from]), params.ndt);
-      ndt::NdtResult forward = ndt::registerNdt(positionsOnly(s.reduced[pair.to]), target, implied, params.ndt);
-      const Observability o = scanObservability(s.reduced[pair.to], s.normals[pair.to], implied, params.degeneracy_ratio);
-      if (params.degeneracy_ratio > 0) {
-        remapDegenerate(forward, implied, o);
-        projectors[k] = o.projector;
-      }
-      pair.degenerate_directions = o.degenerate_directions;
-      pair.weakest_direction_ratio = o.weakest_ratio;
-      Eigen::Isometry3d estimate = forward.pose;
-      hessians[k] = forward.hessian;
-      pair.normalized_score = forward.normalized_score;
-      pair.rejection = s.judge(forward, implied, s.reduced[pair.to], "the scan-to-model poses");
-      const Eigen::Isometry3d discrepancy = implied.inverse() * estimate;
-      pair.discrepancy_translation_m = discrepancy.translation().norm();
-      pair.discrepancy_rotation_rad = rotationAngle(discrepancy);
-      if (pair.rejection.empty()) {
-        pair.accepted = true;
-        measurements[k] = estimate;
-        pair.measurement = estimate;
-      }
-    } catch (const InputError& e) {
-      pair.rejection = std::string("NDT: ") + e.what();
+      ndt_targets[i].emplace(positionsOnly(s.reduced[i]), pair_ndt);
+    } catch (const InputError&) {
+      // Too few points for any Gaussian: the scan's pairs fail.
     }
+    if (s.normals[i].size() != s.reduced[i].size()) s.normals[i] = s.surfaceNormals(s.reduced[i]);
+    if (!params.icp_refinement || s.reduced[i].size() < 3) return;
+    std::vector<Eigen::Vector3d> normals = s.normals[i];
+    if (normals.size() != s.reduced[i].size()) {
+      PointCloud cloud = positionsOnly(s.reduced[i]);
+      try {
+        ndt::estimateNormals(cloud);
+        normals = cloud.normals;
+      } catch (const InputError&) {
+        return;
+      }
+    }
+    icp_targets[i].emplace(s.reduced[i], std::move(normals));
+    if (params.icp_source_voxel_size > 0) {
+      VoxelModel cubes(params.icp_source_voxel_size);
+      cubes.add(s.reduced[i], Eigen::Isometry3d::Identity());
+      icp_sources[i] = cubes.centroids().positions;
+    } else {
+      icp_sources[i] = s.reduced[i];
+    }
+    // A fixed stride keeps the points spread over the view (the cubes are
+    // in key order) and the cost bounded for dense views.
+    const std::size_t cap = std::max<std::size_t>(params.icp_max_source_points, 1);
+    if (icp_sources[i].size() > cap) {
+      const double stride = double(icp_sources[i].size()) / double(cap);
+      std::vector<Eigen::Vector3d> kept;
+      kept.reserve(cap);
+      for (std::size_t k = 0; k < cap; ++k) kept.push_back(icp_sources[i][static_cast<std::size_t>(k * stride)]);
+      icp_sources[i] = std::move(kept);
+    }
+    VoxelModel coarse(params.pair_ndt_source_voxel_size);
+    coarse.add(s.reduced[i], Eigen::Isometry3d::Identity());
+    ndt_sources[i] = coarse.centroids().positions;
   });
+
+  std::vector<Eigen::Isometry3d> poses;
+  for (const ScanRegistrationRecord& r : s.records) poses.push_back(r.model_pose);
+  const int rounds = std::max(1, params.refinement_rounds);
+  for (int round = 0; round < rounds; ++round) {
+    const auto chosen = choosePairs(s.reduced, poses, params);
+    std::vector<PairRegistrationRecord> pairs;
+    pairs.reserve(chosen.size());
+    for (const auto& [pair, overlap] : chosen) {
+      PairRegistrationRecord record;
+      record.from = pair.first;
+      record.to = pair.second;
+      record.overlap = overlap;
+      record.round = round;
+      pairs.push_back(record);
+    }
+    std::vector<Matrix6d> hessians(pairs.size(), Matrix6d::Zero());
+    std::vector<Matrix6d> projectors(pairs.size(), Matrix6d::Identity());
+    // Each pair is independent and deterministic: their order of completion
+    // does not matter.
+    tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
+      PairRegistrationRecord& pair = pairs[k];
+      const Eigen::Isometry3d implied = poses[pair.from].inverse() * poses[pair.to];
+      const bool fine = params.icp_refinement && icp_targets[pair.from] && !icp_sources[pair.to].empty();
+      try {
+        ndt::NdtResult estimate;
+        estimate.pose = implied;
+        // The NDT's wide basin is needed only from the robot's poses; later
+        // rounds start from the graph's, within the ICP's reach.
+        if ((round == 0 && params.pair_ndt) || !fine) {
+          if (!ndt_targets[pair.from]) throw InputError("scan " + std::to_string(pair.from), "", "too few points for NDT");
+          const std::vector<Eigen::Vector3d>& source = fine ? ndt_sources[pair.to] : s.reduced[pair.to];
+          estimate = ndt::registerNdt(positionsOnly(source), *ndt_targets[pair.from], implied, pair_ndt);
+          hessians[k] = estimate.hessian;
+          pair.normalized_score = estimate.normalized_score;
+        } else {
+          estimate.normalized_score = 1.0;
+        }
+        if (fine) {
+          // Later rounds start within a millimetre or two: the coarse stages
+          // would only repeat the last one's work.
+          PointToPlaneIcpParameters icp_params = params.icp;
+          if (round > 0 && icp_params.max_distances.size() > 2)
+            icp_params.max_distances.erase(icp_params.max_distances.begin(), icp_params.max_distances.end() - 2);
+          if (round == 0 && !params.pair_ndt)
+            icp_params.max_distances.insert(icp_params.max_distances.begin(), params.icp_wide_distances.begin(),
+                                            params.icp_wide_distances.end());
+          const PointToPlaneIcpResult icp =
+              registerPointToPlane(icp_sources[pair.to], *icp_targets[pair.from], estimate.pose, icp_params);
+          pair.icp_inlier_fraction = icp.inlier_fraction;
+          pair.icp_rms_m = icp.rms_m;
+          if (icp.failed || icp.inlier_fraction < params.min_icp_inlier_fraction) {
+            pair.rejection = "ICP matched " + std::to_string(icp.correspondences) + " points (" +
+                             std::to_string(100.0 * icp.inlier_fraction) + " %), too little overlap";
+          } else {
+            estimate.pose = icp.pose;
+            // The residuals' variance turns sum J^T J into an information.
+            const double variance = std::max(icp.rms_m * icp.rms_m, 1e-12);
+            hessians[k] = icp.hessian / variance;
+          }
+        }
+        const Observability o = scanObservability(s.reduced[pair.to], s.normals[pair.to], implied, params.degeneracy_ratio);
+        if (params.degeneracy_ratio > 0) {
+          remapDegenerate(estimate, implied, o);
+          projectors[k] = o.projector;
+        }
+        pair.degenerate_directions = o.degenerate_directions;
+        pair.weakest_direction_ratio = o.weakest_ratio;
+        if (pair.rejection.empty()) pair.rejection = s.judge(estimate, implied, s.reduced[pair.to], "the scan-to-model poses");
+        const Eigen::Isometry3d discrepancy = implied.inverse() * estimate.pose;
+        pair.discrepancy_translation_m = discrepancy.translation().norm();
+        pair.discrepancy_rotation_rad = rotationAngle(discrepancy);
+        if (pair.rejection.empty()) {
+          pair.accepted = true;
+          pair.measurement = estimate.pose;
+        }
+      } catch (const InputError& e) {
+        pair.rejection = std::string("NDT: ") + e.what();
+      }
+    });
+
+    // How good the robot's own relative motions and poses are, measured by
+    // the consecutive pairs (independent of the robot).
+    double odometry_sigma_t = params.odometry_sigma_translation, odometry_sigma_r = params.odometry_sigma_rotation;
+    double prior_sigma_t = params.prior_sigma_translation, prior_sigma_r = params.prior_sigma_rotation;
+    {
+      std::vector<double> translation, rotation;
+      for (const PairRegistrationRecord& pair : pairs) {
+        if (!pair.accepted || pair.to != pair.from + 1 || pair.degenerate_directions > 0) continue;
+        const Eigen::Isometry3d odometry = s.records[pair.from].initial_pose.inverse() * s.records[pair.to].initial_pose;
+        const Vector6d e = poseGraphEdgeError(Eigen::Isometry3d::Identity(), pair.measurement, odometry);
+        for (int c = 0; c < 3; ++c) {
+          translation.push_back(std::abs(e(c)));
+          rotation.push_back(std::abs(e(3 + c)));
+        }
+      }
+      if (translation.size() >= 9) {
+        result.measured_odometry_sigma_translation_m = robustSigma(translation);
+        result.measured_odometry_sigma_rotation_rad = robustSigma(rotation);
+        if (params.estimate_robot_precision) {
+          if (odometry_sigma_t > 0 && odometry_sigma_r > 0) {
+            odometry_sigma_t = std::max(odometry_sigma_t, result.measured_odometry_sigma_translation_m);
+            odometry_sigma_r = std::max(odometry_sigma_r, result.measured_odometry_sigma_rotation_rad);
+          }
+          if (prior_sigma_t > 0 && prior_sigma_r > 0) {
+            prior_sigma_t = std::max(prior_sigma_t, result.measured_odometry_sigma_translation_m / std::sqrt(2.0));
+            prior_sigma_r = std::max(prior_sigma_r, result.measured_odometry_sigma_rotation_rad / std::sqrt(2.0));
+          }
+        }
+      }
+    }
+    result.odometry_sigma_translation_m = odometry_sigma_t;
+    result.odometry_sigma_rotation_rad = odometry_sigma_r;
+    result.prior_sigma_translation_m = prior_sigma_t;
+    result.prior_sigma_rotation_rad = prior_sigma_r;
+
+    const bool priors = prior_sigma_t > 0;
+    PoseGraph graph;
+    graph.poses = poses;
+    const Matrix6d registration_information =
+        poseGraphInformation(params.registration_sigma_translation, params.registration_sigma_rotation);
+    // One scale for all pairs, so that a pair that matched more points more
+    // tightly keeps more weight: the median pair's best-constrained
+    // translation gets `registration_sigma_translation`.
+    std::vector<double> stiffness;
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+      if (pairs[k].accepted) stiffness.push_back(translationStiffness(hessians[k]));
+    double hessian_scale = 0.0;
+    if (!stiffness.empty()) {
+      std::nth_element(stiffness.begin(), stiffness.begin() + static_cast<std::ptrdiff_t>(stiffness.size() / 2),
+                       stiffness.end());
+      const double median = stiffness[stiffness.size() / 2];
+      if (median > 0)
+        hessian_scale = 1.0 / (params.registration_sigma_translation * params.registration_sigma_translation * median);
+    }
+    std::vector<std::size_t> pair_edges;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      if (!pairs[k].accepted) continue;
+      pair_edges.push_back(graph.edges.size());
+      PoseGraphEdge edge;
+      edge.from = pairs[k].from;
+      edge.to = pairs[k].to;
+      edge.measurement = pairs[k].measurement;
+      edge.information = params.hessian_information
+                             ? hessianInformation(hessians[k], projectors[k], pairs[k].measurement, hessian_scale)
+                             : registration_information;
+      graph.edges.push_back(edge);
+    }
+    // Without odometry, the scan-to-model chain as weak edges keeps every
+    // scan connected when its pairs fail. With odometry it only adds the
+    // sequential registration's drift (on the SR4000 cup: 1.09 instead of
+    // 0.91 mm median error), so it is left out.
+    const bool odometry = odometry_sigma_t > 0 && odometry_sigma_r > 0;
+    for (std::size_t i = 1; i < n && !odometry; ++i) {
+      PoseGraphEdge edge;
+      edge.from = i - 1;
+      edge.to = i;
+      edge.measurement = s.records[i - 1].model_pose.inverse() * s.records[i].model_pose;
+      const double weak = s.records[i].registered ? 10.0 : 20.0;
+      edge.information =
+          poseGraphInformation(weak * params.registration_sigma_translation, weak * params.registration_sigma_rotation);
+      edge.robust = false;
+      graph.edges.push_back(edge);
+    }
+    if (odometry) {
+      const Matrix6d odometry_information = poseGraphInformation(odometry_sigma_t, odometry_sigma_r);
+      for (std::size_t i = 1; i < n; ++i) {
+        PoseGraphEdge edge;
+        edge.from = i - 1;
+        edge.to = i;
+        edge.measurement = s.records[i - 1].initial_pose.inverse() * s.records[i].initial_pose;
+        edge.information = odometry_information;
+        edge.robust = false;
+        graph.edges.push_back(edge);
+      }
+    }
+    const bool extra_priors =
+        std::any_of(s.priors.begin(), s.priors.end(), [](const std::optional<PosePrior>& p) { return p.has_value(); });
+    if (priors || extra_priors) {
+      // A world node at the identity, tied to every scan by its reported
+      // pose and to those with another measurement of their pose by that one.
+      const std::size_t world = n;
+      graph.poses.push_back(Eigen::Isometry3d::Identity());
+      for (std::size_t i = 0; i < n; ++i) {
+        PoseGraphEdge edge;
+        edge.from = world;
+        edge.to = i;
+        edge.robust = false;
+        if (priors) {
+          edge.measurement = s.records[i].initial_pose;
+          edge.information = poseGraphInformation(prior_sigma_t, prior_sigma_r);
+          graph.edges.push_back(edge);
+        }
+        if (s.priors[i]) {
+          // Robust: an independent measurement (a board corner lattice
+          // locked one square off, say) must not drag the whole graph.
+          edge.measurement = s.priors[i]->pose;
+          edge.information = poseGraphInformation(s.priors[i]->sigma_translation, s.priors[i]->sigma_rotation);
+          edge.robust = true;
+          graph.edges.push_back(edge);
+        }
+      }
+      graph.fixed = {world};
+    } else {
+      graph.fixed = {0};
+    }
+
+    result.pairs = std::move(pairs);
+    result.refinement_rounds = round + 1;
+    if (n == 1 && !extra_priors) {
+      poses = {s.records.front().model_pose};
+      break;
+    }
+    PoseGraphResult solved = optimisePoseGraph(graph, params.graph);
+    // How precise each group of edges really was on this data: the stated
+    // sigmas are guesses (a Kinect pair is better than a SR4000 pair, a
+    // mobile robot knows its pose worse than an arm). Variance component
+    // estimation (pose_graph_variance.hpp) rescales the pairs, the robot's
+    // priors and its odometry until each group's residuals match its
+    // redundancy, solving the graph again each time.
+    std::vector<int> groups(graph.edges.size(), -1);
+    for (std::size_t e : pair_edges) groups[e] = 0;
+    for (std::size_t e = 0; e < graph.edges.size(); ++e) {
+      const PoseGraphEdge& edge = graph.edges[e];
+      if (priors && edge.from == n && !edge.robust) groups[e] = 1;
+      if (odometry && edge.from < n && edge.to == edge.from + 1 && !edge.robust) groups[e] = 2;
+    }
+    double factor = 1.0, prior_factor = 1.0, odometry_factor = 1.0;
+    auto floorOf = [](double stated_t, double start_t, double stated_r, double start_r) {
+      if (!(start_t > 0) || !(start_r > 0)) return 1.0;
+      return std::min(1.0, std::max(std::pow(stated_t / start_t, 2), std::pow(stated_r / start_r, 2)));
+    };
+    const double prior_floor =
+        floorOf(params.prior_sigma_translation, prior_sigma_t, params.prior_sigma_rotation, prior_sigma_r);
+    const double odometry_floor =
+        floorOf(params.odometry_sigma_translation, odometry_sigma_t, params.odometry_sigma_rotation, odometry_sigma_r);
+    for (int v = 0; v < params.variance_rounds && pair_edges.size() >= 3; ++v) {
+      const auto components = estimateVarianceComponents(graph, solved, groups, 3);
+      std::array<double, 3> steps{1.0, 1.0, 1.0};
+      // The pairs: their median chi-square against 6 degrees of freedom,
+      // only ever weakening them. Their errors are largely systematic (a
+      // depth camera's distortion repeats in every view), which their
+      // mutual consistency cannot show: the redundancy estimate would make
+      // them far stronger than they are (on the real PrimeSense bunny it
+      // did, and the cloud got worse), so `registration_sigma_*` is a floor.
+      std::vector<double> chi2;
+      for (std::size_t e : pair_edges) {
+        const PoseGraphEdge& edge = graph.edges[e];
+        const Vector6d error = poseGraphEdgeError(solved.poses[edge.from], solved.poses[edge.to], edge.measurement);
+        chi2.push_back(error.dot(edge.information * error));
+      }
+      std::nth_element(chi2.begin(), chi2.begin() + static_cast<std::ptrdiff_t>(chi2.size() / 2), chi2.end());
+      steps[0] = std::clamp(chi2[chi2.size() / 2] / 5.35, 1.0 / factor, 1e2 / factor);
+      // The robot's priors and odometry: their residuals against their
+      // redundancy (too large a graph for the dense inverse: as stated).
+      if (const auto components = estimateVarianceComponents(graph, solved, groups, 3))
+        for (int g = 1; g < 3; ++g) steps[g] = std::clamp((*components)[g].variance_factor, 1e-2, 1e2);
+      // The robot's groups stay between their stated sigmas and the ones the
+      // consecutive pairs measured (which hold the pairs' own error too):
+      // with wrong pairs among few, or noisy pairs (a ToF camera) against an
+      // arm's precise odometry, unbounded factors feed on each other.
+      steps[1] = std::clamp(steps[1], prior_floor / prior_factor, 1.0 / prior_factor);
+      steps[2] = std::clamp(steps[2], odometry_floor / odometry_factor, 1.0 / odometry_factor);
+      if (std::all_of(steps.begin(), steps.end(), [](double x) { return std::abs(std::log(x)) < std::log(1.2); }))
+        break;
+      factor *= steps[0];
+      prior_factor *= steps[1];
+      odometry_factor *= steps[2];
+      for (std::size_t e = 0; e < graph.edges.size(); ++e)
+        if (groups[e] >= 0) graph.edges[e].information /= steps[static_cast<std::size_t>(groups[e])];
+      solved = optimisePoseGraph(graph, params.graph);
+    }
+    if (priors) {
+      result.prior_sigma_translation_m *= std::sqrt(prior_factor);
+      result.prior_sigma_rotation_rad *= std::sqrt(prior_factor);
+    }
+    if (odometry) {
+      result.odometry_sigma_translation_m *= std::sqrt(odometry_factor);
+      result.odometry_sigma_rotation_rad *= std::sqrt(odometry_factor);
+    }
+    result.pair_variance_factor = factor;
+    poses.assign(solved.poses.begin(), solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
+    result.graph = solved.report;
+  }
+  result.poses = poses;
+
+  const bool try_loop = params.loop_closure && n >= 3;
   if (try_loop) {
     LoopClosureRecord& loop = result.loop_closure;
     for (const PairRegistrationRecord& pair : result.pairs)
@@ -410,130 +753,6 @@ SequenceRegistrationResult SequenceRegistration::finish() {
         loop.discrepancy_translation_m = pair.discrepancy_translation_m;
         loop.discrepancy_rotation_rad = pair.discrepancy_rotation_rad;
       }
-  }
-
-  const bool priors = params.prior_sigma_translation > 0;
-  PoseGraph graph;
-  for (const ScanRegistrationRecord& r : s.records) graph.poses.push_back(r.model_pose);
-  const Matrix6d registration_information =
-      poseGraphInformation(params.registration_sigma_translation, params.registration_sigma_rotation);
-  // One scale for all pairs, so that a pair that matched more points more
-  // tightly keeps more weight: the median pair's best-constrained
-  // translation gets `registration_sigma_translation`.
-  std::vector<double> stiffness;
-  for (std::size_t k = 0; k < result.pairs.size(); ++k)
-    if (result.pairs[k].accepted) stiffness.push_back(translationStiffness(hessians[k]));
-  double hessian_scale = 0.0;
-  if (!stiffness.empty()) {
-    std::nth_element(stiffness.begin(), stiffness.begin() + static_cast<std::ptrdiff_t>(stiffness.size() / 2),
-                     stiffness.end());
-    const double median = stiffness[stiffness.size() / 2];
-    if (median > 0)
-      hessian_scale =
-          1.0 / (params.registration_sigma_translation * params.registration_sigma_translation * median);
-  }
-  std::vector<std::size_t> pair_edges;
-  for (std::size_t k = 0; k < result.pairs.size(); ++k) {
-    if (!result.pairs[k].accepted) continue;
-    pair_edges.push_back(graph.edges.size());
-    PoseGraphEdge edge;
-    edge.from = result.pairs[k].from;
-    edge.to = result.pairs[k].to;
-    edge.measurement = measurements[k];
-    edge.information = params.hessian_information
-                           ? hessianInformation(hessians[k], projectors[k], measurements[k], hessian_scale)
-                           : registration_information;
-    graph.edges.push_back(edge);
-  }
-  // Without odometry, the scan-to-model chain as weak edges keeps every scan
-  // connected when its pairs fail. With odometry it only adds the
-  // sequential registration's drift (on the SR4000 cup: 1.09 instead of
-  // 0.91 mm median error), so it is left out.
-  const bool odometry = params.odometry_sigma_translation > 0 && params.odometry_sigma_rotation > 0;
-  for (std::size_t i = 1; i < n && !odometry; ++i) {
-    PoseGraphEdge edge;
-    edge.from = i - 1;
-    edge.to = i;
-    edge.measurement = s.records[i - 1].model_pose.inverse() * s.records[i].model_pose;
-    const double weak = s.records[i].registered ? 10.0 : 20.0;
-    edge.information = poseGraphInformation(weak * params.registration_sigma_translation,
-                                            weak * params.registration_sigma_rotation);
-    edge.robust = false;
-    graph.edges.push_back(edge);
-  }
-  if (odometry) {
-    const Matrix6d odometry_information =
-        poseGraphInformation(params.odometry_sigma_translation, params.odometry_sigma_rotation);
-    for (std::size_t i = 1; i < n; ++i) {
-      PoseGraphEdge edge;
-      edge.from = i - 1;
-      edge.to = i;
-      edge.measurement = s.records[i - 1].initial_pose.inverse() * s.records[i].initial_pose;
-      edge.information = odometry_information;
-      edge.robust = false;
-      graph.edges.push_back(edge);
-    }
-  }
-  const bool extra_priors =
-      std::any_of(s.priors.begin(), s.priors.end(), [](const std::optional<PosePrior>& p) { return p.has_value(); });
-  if (priors || extra_priors) {
-    // A world node at the identity, tied to every scan by its reported pose
-    // and to those with another measurement of their pose by that one.
-    const std::size_t world = n;
-    graph.poses.push_back(Eigen::Isometry3d::Identity());
-    for (std::size_t i = 0; i < n; ++i) {
-      PoseGraphEdge edge;
-      edge.from = world;
-      edge.to = i;
-      edge.robust = false;
-      if (priors) {
-        edge.measurement = s.records[i].initial_pose;
-        edge.information = poseGraphInformation(params.prior_sigma_translation, params.prior_sigma_rotation);
-        graph.edges.push_back(edge);
-      }
-      if (s.priors[i]) {
-        // Robust: an independent measurement (a board corner lattice locked
-        // one square off, say) must not drag the whole graph.
-        edge.measurement = s.priors[i]->pose;
-        edge.information = poseGraphInformation(s.priors[i]->sigma_translation, s.priors[i]->sigma_rotation);
-        edge.robust = true;
-        graph.edges.push_back(edge);
-      }
-    }
-    graph.fixed = {world};
-  } else {
-    graph.fixed = {0};
-  }
-
-  if (n == 1 && !extra_priors) {
-    result.poses = {s.records.front().model_pose};
-  } else {
-    PoseGraphResult solved = optimisePoseGraph(graph, params.graph);
-    // How precise the pairs really were on this data: the stated sigma is a
-    // guess (a Kinect pair is better than a SR4000 pair). Their normalised
-    // residuals at the solution scale their information down until the
-    // median matches a chi-square with 6 degrees of freedom (median 5.35),
-    // and the graph is solved again (variance component estimation). Only
-    // down: the pairs largely make the solution they are measured against,
-    // so small residuals do not prove they are better than stated.
-    double factor = 1.0;
-    for (int round = 0; round < params.variance_rounds && pair_edges.size() >= 3; ++round) {
-      std::vector<double> chi2;
-      for (std::size_t e : pair_edges) {
-        const PoseGraphEdge& edge = graph.edges[e];
-        const Vector6d error = poseGraphEdgeError(solved.poses[edge.from], solved.poses[edge.to], edge.measurement);
-        chi2.push_back(error.dot(edge.information * error));
-      }
-      std::nth_element(chi2.begin(), chi2.begin() + static_cast<std::ptrdiff_t>(chi2.size() / 2), chi2.end());
-      const double step = std::clamp(chi2[chi2.size() / 2] / 5.35, 1.0 / factor, 100.0 / factor);
-      if (!(step > 0) || std::abs(std::log(step)) < std::log(1.2)) break;
-      factor *= step;
-      for (std::size_t e : pair_edges) graph.edges[e].information /= step;
-      solved = optimisePoseGraph(graph, params.graph);
-    }
-    result.pair_variance_factor = factor;
-    result.poses.assign(solved.poses.begin(), solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
-    result.graph = solved.report;
   }
   result.scans = std::move(s.records);
   result.model_points = s.model.size();

@@ -243,6 +243,121 @@ mrpt::obs::CObservation3DRangeScan smallScan(int w, int h) {
   return obs;
 }
 
+// A sensorPose whose stored matrix is a rotation disturbed by `amount` per
+// entry (MRPT keeps and serialises the 3x3 matrix as given).
+mrpt::poses::CPose3D disturbedSensorPose(double amount) {
+  Eigen::Isometry3d pose =
+      Eigen::Translation3d(0.05, -0.6, 0.3) * Eigen::AngleAxisd(0.8, Eigen::Vector3d(0.2, 0.5, -1.0).normalized());
+  Eigen::Matrix3d noise;
+  noise << 0.4, -0.9, 0.2,  //
+      -0.3, 0.7, 1.0,       //
+      0.8, -0.1, -0.6;
+  pose.linear() += amount * noise;
+  mrpt::math::CMatrixDouble44 m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = pose.matrix()(r, c);
+  return mrpt::poses::CPose3D(m);
+}
+
+TEST(RawlogReader, NearlyOrthonormalPoseIsProjectedAndCounted) {
+  const fs::path scratch = scratchFolder("rotation_inside");
+  const std::string path = (scratch / "x.rawlog").string();
+  const mrpt::poses::CPose3D disturbed = disturbedSensorPose(5e-6);
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto exact = smallScan(8, 6);
+    exact.sensorPose = mrpt::poses::CPose3D(0.1, 0.2, 0.3, 0.4, -0.5, 0.6);
+    auto rounded = smallScan(8, 6);
+    rounded.sensorPose = disturbed;
+    archive << exact << rounded;
+  }
+  const Eigen::Matrix3d stored = toIsometry(disturbed).linear();
+  ASSERT_GT(orthonormalityError(stored), 1e-6);  // what a 7-digit pose log leaves
+  ASSERT_LT(orthonormalityError(stored), kReadRotationTolerance);
+  const auto scans = readAllScans(path);
+  ASSERT_EQ(scans.size(), 2u);
+  EXPECT_FALSE(scans[0].pose_orthonormalised);
+  EXPECT_TRUE(scans[1].pose_orthonormalised);
+  const Eigen::Isometry3d& pose = scans[1].sensor_pose;
+  EXPECT_LE(orthonormalityError(pose.linear()), 1e-12);
+  EXPECT_NEAR(pose.linear().determinant(), 1.0, 1e-12);
+  EXPECT_LT((pose.linear() - stored).cwiseAbs().maxCoeff(), 2e-5);
+  // MRPT unprojected with the repaired pose: every point is the pose times
+  // its optical ray (depth 1 m), in single precision.
+  ASSERT_EQ(scans[1].points.size(), 48u);
+  for (std::size_t k = 0; k < scans[1].points.size(); ++k) {
+    const int row = static_cast<int>(scans[1].pixels[k]) / 8, col = static_cast<int>(scans[1].pixels[k]) % 8;
+    const Eigen::Vector3d optical = opticalPoint(scans[1], row, col, 1.0);
+    const Eigen::Vector3d expected = pose * (mrptSensorAxesInOptical().transpose() * optical);
+    EXPECT_LT((scans[1].points[k] - expected).norm(), 1e-6) << k;
+  }
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, PoseFarFromARotationNamesTheScan) {
+  const fs::path scratch = scratchFolder("rotation_outside");
+  const std::string path = (scratch / "x.rawlog").string();
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto exact = smallScan(8, 6);
+    auto scaled = smallScan(8, 6);
+    scaled.sensorPose = disturbedSensorPose(0.03);
+    archive << exact << scaled;
+  }
+  RawlogReader reader(path);
+  EXPECT_TRUE(reader.next());
+  const InputError e = expectInputError([&] { reader.next(); });
+  EXPECT_EQ(e.source(), path);
+  EXPECT_EQ(e.location(), "scan 1");
+  EXPECT_NE(e.detail().find("not orthonormal"), std::string::npos) << e.what();
+
+  // A looser tolerance accepts it (and projects it).
+  RawlogReaderOptions loose;
+  loose.rotation_tolerance = 0.1;
+  const auto scans = readAllScans(path, loose);
+  ASSERT_EQ(scans.size(), 2u);
+  EXPECT_TRUE(scans[1].pose_orthonormalised);
+  EXPECT_LE(orthonormalityError(scans[1].sensor_pose.linear()), 1e-12);
+
+  // A pose file replaces the recorded pose, which is then not checked.
+  const std::string poses = (scratch / "poses.txt").string();
+  { std::ofstream(poses) << "0 0 0 0 0 0 0 1\n1 0 0 1 0 0 0.7071067811865476 0.7071067811865476\n"; }
+  RawlogReaderOptions replaced;
+  replaced.pose_file = poses;
+  const auto replaced_scans = readAllScans(path, replaced);
+  ASSERT_EQ(replaced_scans.size(), 2u);
+  EXPECT_FALSE(replaced_scans[1].pose_orthonormalised);
+  EXPECT_EQ(replaced_scans[1].sensor_pose.translation(), Eigen::Vector3d(0, 0, 1));
+  fs::remove_all(scratch);
+}
+
+TEST(RawlogReader, PoseFileQuaternionOffUnitLengthIsNormalisedAndCounted) {
+  const fs::path scratch = scratchFolder("quaternion");
+  const std::string path = (scratch / "x.rawlog").string();
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    archive << smallScan(8, 6) << smallScan(8, 6);
+  }
+  const std::string poses = (scratch / "poses.txt").string();
+  {
+    std::ofstream out(poses);
+    out.precision(17);
+    const double c = 0.9999 * std::sqrt(0.5);
+    out << "0 0 0 0 0 0 0 1\n1 0 0 1 0 0 " << c << " " << c << "\n";
+  }
+  RawlogReaderOptions options;
+  options.pose_file = poses;
+  const auto scans = readAllScans(path, options);
+  ASSERT_EQ(scans.size(), 2u);
+  EXPECT_FALSE(scans[0].pose_orthonormalised);
+  EXPECT_TRUE(scans[1].pose_orthonormalised);
+  EXPECT_LE(orthonormalityError(scans[1].sensor_pose.linear()), 1e-12);
+  fs::remove_all(scratch);
+}
+
 TEST(RawlogReader, ScanWithoutRangeImage) {
   const fs::path scratch = scratchFolder("norange");
   const std::string path = (scratch / "x.rawlog").string();

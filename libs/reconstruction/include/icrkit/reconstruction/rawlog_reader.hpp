@@ -9,6 +9,7 @@
 /// are understood. Other observations and actions are skipped.
 
 #include <icrkit/core/camera_intrinsics.hpp>
+#include <icrkit/core/pose.hpp>
 
 #include <Eigen/Geometry>
 
@@ -32,12 +33,16 @@ struct Image8 {
 
 /// One range scan in metres with its points in the object frame.
 struct RangeScan {
-  std::size_t index = 0;      ///< 0-based among the 3D scans of the rawlog
+  std::size_t index = 0;      ///< 0-based among the 3D scans of the rawlog (a folder's listed frames)
   double timestamp = 0.0;     ///< seconds since 1970 (UTC)
   std::string sensor_label;
   /// Sensor pose in the object frame, MRPT's sensor axes (+x forward, +y
   /// left, +z up); from the rawlog or the TUM override.
   Eigen::Isometry3d sensor_pose = Eigen::Isometry3d::Identity();
+  /// The pose as read was not exactly a rotation (a matrix off by more than
+  /// double rounding, a quaternion off unit length) and was projected onto
+  /// the nearest one (core/pose.hpp, orthonormaliseReadPose).
+  bool pose_orthonormalised = false;
   /// true: values are depths along the optical axis; false: distances along the pixel's ray.
   bool range_is_depth = true;
   double max_range = 0.0;  ///< metres, the sensor's nominal maximum
@@ -71,6 +76,10 @@ struct RawlogReaderOptions {
   /// Compute `points` and `pixels` (skip for a pass over the images only;
   /// filterCropBox and removeSupportPlane need the points).
   bool unproject = true;
+  /// How far (max |R^T R - I|) a `sensorPose` rotation may be from
+  /// orthonormal and still be projected onto the nearest rotation; beyond:
+  /// InputError naming the scan.
+  double rotation_tolerance = kReadRotationTolerance;
 };
 
 /// Reads the 3D range scans of a rawlog one at a time:
@@ -80,7 +89,8 @@ struct RawlogReaderOptions {
 ///
 /// Throws InputError (naming the file and the scan index) for a missing or
 /// truncated file, a rawlog without any 3D scan, a scan without a range
-/// image, inconsistent image sizes, or too few poses in the pose file.
+/// image, inconsistent image sizes, a `sensorPose` that is not a rotation
+/// (beyond `rotation_tolerance`), or too few poses in the pose file.
 class RawlogReader {
 public:
   explicit RawlogReader(const std::string& path, RawlogReaderOptions options = {});

@@ -1,14 +1,15 @@
 #pragma once
 /// \file
-/// Section II-A of Krug et al. as one call: a rawlog of range scans with
-/// robot-reported poses -> filtered scans -> scan-to-model 3D-NDT
+/// Section II-A of Krug et al. as one call: a recording of range scans with
+/// robot-reported poses (an MRPT rawlog or a TUM RGB-D folder of depth
+/// images, scan_source.hpp) -> filtered scans -> scan-to-model 3D-NDT
 /// registration and pose graph -> OctoMap fusion -> the raw mesh (ball
 /// pivoting on the fused cloud) and the filtered mesh (3D-NDT smoothing and
 /// preselection, then ball pivoting). See docs/reconstruction.md.
 ///
-/// The rawlog is streamed three times (poses, registration, fusion): memory
-/// holds one scan, the registration model and the fused cloud, never the
-/// recording.
+/// The recording is streamed three times (poses, registration, fusion):
+/// memory holds one scan, the registration model and the fused cloud, never
+/// the recording.
 
 #include <icrkit/core/point_cloud.hpp>
 #include <icrkit/core/progress.hpp>
@@ -20,6 +21,7 @@
 #include <icrkit/reconstruction/range_calibration.hpp>
 #include <icrkit/reconstruction/board_lattice_pose.hpp>
 #include <icrkit/reconstruction/scan_filters.hpp>
+#include <icrkit/reconstruction/scan_source.hpp>
 #include <icrkit/reconstruction/scan_sequence_registration.hpp>
 
 #include <Eigen/Geometry>
@@ -33,10 +35,16 @@
 namespace icrkit::reconstruction {
 
 struct ReconstructionParameters {
-  /// TUM file overriding the rawlog's sensor poses; images folder (see
-  /// RawlogReaderOptions).
+  /// TUM file overriding the recorded sensor poses: for a rawlog in MRPT's
+  /// sensor axes, for a folder in the camera's optical axes
+  /// (ScanReaderOptions); a rawlog's images folder (RawlogReaderOptions).
   std::string pose_file;
   std::string images_folder;
+  /// A folder's camera and pose matching (TumFolderOptions); a rawlog's
+  /// rotation tolerance (RawlogReaderOptions).
+  DepthCameraOptions depth_camera;
+  double max_time_difference = kTumMaxTimeDifference;
+  double rotation_tolerance = kReadRotationTolerance;
 
   /// A ToF camera's systematic range error (range_calibration.hpp), removed
   /// from every scan before anything else; zero: none.
@@ -93,6 +101,10 @@ struct ReconstructionParameters {
   BallPivotingParameters meshing;
   /// false: stop after the fused cloud (no meshes).
   bool make_meshes = true;
+  /// Keep each scan's object points (sensor frame) as handed to the
+  /// registration, for comparisons with other registration tools on exactly
+  /// the same input (`ReconstructionResult::registration_input`).
+  bool keep_registration_input = false;
 };
 
 /// What the filters did to one scan.
@@ -127,11 +139,21 @@ struct ReconstructionResult {
   std::vector<Eigen::Isometry3d> poses;
   std::vector<Eigen::Isometry3d> reported_poses;
   std::vector<double> timestamps;
+  /// Input poses that were not exactly rotations as read and were projected
+  /// onto the nearest one (RangeScan::pose_orthonormalised).
+  std::size_t poses_orthonormalised = 0;
+  /// ScanReader::poseMatching(): "recorded", "order", "timestamp", "none".
+  std::string pose_matching;
+  /// A folder's camera (intrinsics, depth scale); empty for a rawlog.
+  std::optional<DepthCamera> depth_camera;
   Eigen::AlignedBox3d crop_box;
   bool crop_box_automatic = false;
   double scan_spacing_m = 0.0;  ///< median point spacing of the first scan's object points
   std::vector<ScanFilterRecord> filters;
   SequenceRegistrationResult registration;  ///< empty when registration is off
+  /// With `keep_registration_input`: per scan, its filtered object points in
+  /// its own sensor frame (MRPT axes), as the registration saw them.
+  std::vector<PointCloud> registration_input;
   /// Per scan, the checkerboard pose when `board` was given (else empty);
   /// `poses_from_board` of them were found and used; `board_pose_rejected`
   /// marks those found but too far from the reported pose.
@@ -154,9 +176,10 @@ struct ReconstructionResult {
   ReconstructionTimes times;
 };
 
-/// Runs the pipeline on a rawlog. Throws InputError naming the file and the
-/// scan for unreadable input (RawlogReader's errors, a pose file with too
-/// few poses, a scan without object points) and for bad parameters.
+/// Runs the pipeline on a rawlog or a TUM RGB-D folder (ScanReader).
+/// Throws InputError naming the file and the scan for unreadable input (the
+/// readers' errors, a pose file with too few or unmatched poses, a scan
+/// without object points) and for bad parameters.
 /// Progress stages: "poses", "registration", "fusion", "normals", "raw mesh",
 /// "smoothing", "filtered mesh".
 ReconstructionResult reconstructRawlog(const std::string& rawlog, const ReconstructionParameters& params = {},

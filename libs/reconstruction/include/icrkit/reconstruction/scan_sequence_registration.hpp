@@ -1,11 +1,16 @@
 #pragma once
 /// \file
-/// Registration of a sequence of scans into one model: each scan against the
-/// model grown from the scans before it (3D-NDT, starting from the pose the
-/// robot reported), then pair-wise registrations of the overlapping scans
-/// (the last/first pair among them: the loop closure) as the edges of a pose
-/// graph with the reported poses as weak priors, solved with CHOLMOD
-/// (pose_graph.hpp). See docs/reconstruction.md.
+/// Multiway registration of a sequence of scans (docs/reconstruction.md):
+/// every scan paired with its best-overlapping partners (and its
+/// neighbours in the sequence, and the last with the first), each pair
+/// registered by 3D-NDT on coarse cells and finished by point-to-plane ICP
+/// at the sensor's noise scale, the pairs made the edges of a pose graph
+/// with the robot's reported poses as priors and its relative motions as
+/// odometry (solved with CHOLMOD, pose_graph.hpp), the robot's precision
+/// measured on the data (variance components, pose_graph_variance.hpp),
+/// then pairs chosen and registered again at the graph's poses, a few
+/// rounds. Optionally each scan is first registered against the model of
+/// the scans before it (the paper's scan-to-model pass).
 ///
 /// Streaming: a scan is handed over once; what is kept is the model (cube
 /// centroids) and each scan reduced to 2 mm cube centroids (a few thousand
@@ -13,6 +18,7 @@
 
 #include <icrkit/core/point_cloud.hpp>
 #include <icrkit/ndt/ndt_registration.hpp>
+#include <icrkit/reconstruction/point_to_plane_icp.hpp>
 #include <icrkit/reconstruction/pose_graph.hpp>
 
 #include <Eigen/Geometry>
@@ -46,6 +52,13 @@ struct SequenceRegistrationParameters {
   /// of this edge (metres): its size then follows the object's surface
   /// area, not the number of scans.
   double model_voxel_size = 0.0015;
+  /// The sequential pass: each scan registered (NDT) against the model of
+  /// the scans before it, the starting poses of the pair-wise stage. false:
+  /// the pairs start from the reported poses (their NDT stage has the same
+  /// basin), in parallel. Off by default: on the real PrimeSense bunny and
+  /// the simulated sets the multiway rounds end at the same poses either
+  /// way, and the sequential pass is a third of the time.
+  bool scan_to_model = false;
   /// Each scan starts from its reported pose corrected by the previous
   /// scan's correction (arm drift and hand-eye errors change slowly).
   bool propagate_correction = true;
@@ -78,6 +91,10 @@ struct SequenceRegistrationParameters {
   /// them: the loop closure) spread it.
   double min_pair_overlap = 0.3;
   int max_partners = 4;
+  /// Always register consecutive scans as pairs, whatever their overlap at
+  /// the current poses (from poses a centimetre off, overlap is
+  /// underestimated; a robot moves between consecutive views little).
+  bool sequence_pairs = true;
   /// Always try the last scan against the first (turntable, closed circle).
   bool loop_closure = true;
   /// Standard deviations of an accepted registration's relative pose
@@ -97,6 +114,52 @@ struct SequenceRegistrationParameters {
   /// none.
   double odometry_sigma_translation = 0.0005;
   double odometry_sigma_rotation = 0.001;
+  /// Fine stage of every pair: point-to-plane ICP (point_to_plane_icp.hpp)
+  /// after the pair's NDT, against the target scan's `kept_voxel_size`
+  /// points and their tangent planes, from the source reduced to cubes of
+  /// `icp_source_voxel_size` (metres). An NDT cell of 5 mm or more models a
+  /// curved surface too coarsely for the sensor's ~1 mm noise. false: NDT only.
+  bool icp_refinement = true;
+  PointToPlaneIcpParameters icp;
+  /// The `icp` distances suit scans up to this point spacing (metres); a
+  /// first scan spaced more sparsely scales them (and the kernel) by its
+  /// spacing over this. <= 0: never scaled.
+  double icp_spacing_reference = 0.0015;
+  double icp_source_voxel_size = 0.0025;
+  /// ... and at most this many of them (an even stride): precision grows
+  /// with the square root of the count, the cost linearly.
+  std::size_t icp_max_source_points = 1200;
+  /// First round: the pairs start from the robot's poses, a centimetre or
+  /// more apart. true: 3D-NDT on coarse cells brings them within the ICP's
+  /// reach; false: the ICP starts with these wider pairing distances
+  /// (metres) before its own.
+  bool pair_ndt = true;
+  std::vector<double> icp_wide_distances{0.02, 0.01};
+  /// With the ICP after it, a pair's NDT only has to reach the ICP's basin:
+  /// its source is reduced to cubes of this edge (metres).
+  double pair_ndt_source_voxel_size = 0.005;
+  /// With the ICP after it, the NDT (scan-to-model and pairs) stops at its
+  /// cells of at least this edge (metres): its finer cells cost most of its
+  /// time and the ICP does their work better.
+  double icp_coarsest_finish = 0.01;
+  /// A pair whose ICP matches fewer than this fraction of the source's
+  /// points (weighted) is rejected: the views hardly overlap.
+  double min_icp_inlier_fraction = 0.15;
+  /// Multiway rounds: after the pose graph is solved the pairs are chosen
+  /// again at the new poses (views that now overlap become partners) and
+  /// registered again from the graph's relative poses (ICP only), and the
+  /// graph is solved again. 1: a single round.
+  int refinement_rounds = 3;
+  /// The robot's relative motions are only as good as the data says: the
+  /// consecutive pairs' registered relative poses measure the odometry's
+  /// error (robust spread per axis), and the odometry edges get
+  /// max(`odometry_sigma_*`, measured) as their sigma; a per-view
+  /// independent error (a mobile manipulator, 3 mm / 0.5 deg per view)
+  /// then leaves the odometry weak instead of pulling every scan back to
+  /// where the robot reported it. The reported-pose priors likewise get at
+  /// least the measured per-view error (the odometry's / sqrt 2). false:
+  /// trust the stated sigmas.
+  bool estimate_robot_precision = true;
   /// Rounds of re-estimating the pairs' precision from their residuals
   /// (variance component estimation against the odometry and priors; the
   /// pairs are only ever weakened); 0: trust `registration_sigma_*`.
@@ -159,6 +222,11 @@ struct PairRegistrationRecord {
   double normalized_score = 0.0;
   int degenerate_directions = 0;
   double weakest_direction_ratio = 1.0;  ///< smallest / largest scaled Hessian eigenvalue
+  /// The fine stage (when `icp_refinement`): weighted inlier fraction of
+  /// the source and RMS residual along the normals (metres).
+  double icp_inlier_fraction = 0.0;
+  double icp_rms_m = 0.0;
+  int round = 0;  ///< multiway round of this registration (0-based)
   /// The registered pose of scan `to` in scan `from`'s frame (when accepted).
   Eigen::Isometry3d measurement = Eigen::Isometry3d::Identity();
   /// How far the pair's relative pose is from the scan-to-model poses'.
@@ -174,6 +242,14 @@ struct SequenceRegistrationResult {
   PoseGraphReport graph;
   std::size_t model_points = 0;  ///< final model size (voxel centroids)
   std::vector<double> resolutions;  ///< the NDT cell sizes used (metres)
+  /// The sigmas the robot's odometry edges and reported-pose priors were
+  /// given (stated or measured, see `estimate_robot_precision`).
+  double odometry_sigma_translation_m = 0.0, odometry_sigma_rotation_rad = 0.0;
+  double prior_sigma_translation_m = 0.0, prior_sigma_rotation_rad = 0.0;
+  /// The robot's relative-motion error as measured by the consecutive
+  /// pairs (robust sigma per axis; 0 when too few pairs).
+  double measured_odometry_sigma_translation_m = 0.0, measured_odometry_sigma_rotation_rad = 0.0;
+  int refinement_rounds = 0;  ///< multiway rounds run
   /// The pairs' variance as estimated from their residuals, relative to
   /// `registration_sigma_*` (>= 1: less precise than stated).
   double pair_variance_factor = 1.0;

@@ -1,0 +1,118 @@
+#pragma once
+// The options of a TUM RGB-D folder input (camera, depth scale, pose
+// matching), shared by `icrkit reconstruct` and `icrkit convert`.
+// Header-only so that the commands share it without another source file.
+
+#include "argument_parsing.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/reconstruction/tum_folder_reader.hpp>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace icrkit::app {
+
+struct DepthFolderFlags {
+  std::string intrinsics;
+  double depth_scale = 0.0;
+  std::string camera;
+  double max_time_difference = reconstruction::kTumMaxTimeDifference;
+
+  bool anyGiven(const CLI::App& command) const {
+    return !intrinsics.empty() || depth_scale != 0.0 || !camera.empty() || command.count("--max-time-difference") > 0;
+  }
+};
+
+inline void addDepthFolderOptions(CLI::App& command, DepthFolderFlags& flags) {
+  command.add_option("--intrinsics", flags.intrinsics,
+                     "TUM folder input: the depth camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] (pixels; plumb-bob "
+                     "distortion); replaces the camera file's");
+  command.add_option("--depth-scale", flags.depth_scale,
+                     "TUM folder input: depth counts per metre (1000 = millimetres). Default: the camera file's, "
+                     "else TUM's 5000");
+  command.add_option("--camera", flags.camera,
+                     "TUM folder input: camera file (JSON: fx, fy, cx, cy, distortion_k1_k2_p1_p2_k3, depth_scale, "
+                     "max_range_m; docs/reconstruction_input.md). Default: FOLDER/camera.json when present");
+  command
+      .add_option("--max-time-difference", flags.max_time_difference,
+                  "TUM folder input: poses are matched to depth frames by order when their counts are equal, "
+                  "else by nearest time stamp within this many seconds")
+      ->capture_default_str();
+}
+
+/// "fx,fy,cx,cy" or "fx,fy,cx,cy,k1,k2,p1,p2,k3".
+inline CameraIntrinsics parseIntrinsics(const std::string& text) {
+  const std::vector<std::string> items = split(text, ',');
+  double v[9] = {};
+  if (items.size() != 4 && items.size() != 9)
+    throw InputError("--intrinsics", "", "expected fx,fy,cx,cy or fx,fy,cx,cy,k1,k2,p1,p2,k3, got '" + text + "'");
+  for (std::size_t i = 0; i < items.size(); ++i)
+    if (!parseNumber(items[i], v[i]) || !std::isfinite(v[i]))
+      throw InputError("--intrinsics", "", "'" + items[i] + "' is not a number");
+  if (!(v[0] > 0 && v[1] > 0)) throw InputError("--intrinsics", "", "expected positive focal lengths fx, fy (pixels)");
+  CameraIntrinsics k;
+  k.fx = v[0];
+  k.fy = v[1];
+  k.cx = v[2];
+  k.cy = v[3];
+  for (std::size_t i = 0; i < 5; ++i) k.distortion[i] = v[4 + i];
+  return k;
+}
+
+/// The library options; InputErrors name the flag.
+inline reconstruction::DepthCameraOptions depthCameraOptions(const DepthFolderFlags& flags) {
+  reconstruction::DepthCameraOptions options;
+  if (!flags.intrinsics.empty()) options.intrinsics = parseIntrinsics(flags.intrinsics);
+  if (flags.depth_scale != 0.0 && (!(flags.depth_scale > 0) || !std::isfinite(flags.depth_scale)))
+    throw InputError("--depth-scale", "", "expected the depth counts per metre (> 0; 1000 for millimetres)");
+  options.depth_scale = flags.depth_scale;
+  options.camera_file = flags.camera;
+  if (!(flags.max_time_difference >= 0) || !std::isfinite(flags.max_time_difference))
+    throw InputError("--max-time-difference", "", "expected seconds >= 0");
+  return options;
+}
+
+/// The options only a folder input takes, refused for a rawlog.
+inline void refuseDepthFolderOptions(const CLI::App& command, const DepthFolderFlags& flags) {
+  if (!flags.anyGiven(command)) return;
+  const char* flag = !flags.intrinsics.empty()  ? "--intrinsics"
+                     : flags.depth_scale != 0.0 ? "--depth-scale"
+                     : !flags.camera.empty()    ? "--camera"
+                                                : "--max-time-difference";
+  throw InputError(flag, "",
+                   "applies to a TUM RGB-D folder input; a rawlog carries its own camera (cameraParams, "
+                   "rangeUnits) and matches poses by order");
+}
+
+inline nlohmann::json depthCameraJson(const reconstruction::DepthCamera& camera) {
+  const CameraIntrinsics& k = camera.intrinsics;
+  return {{"width", k.width},
+          {"height", k.height},
+          {"fx", k.fx},
+          {"fy", k.fy},
+          {"cx", k.cx},
+          {"cy", k.cy},
+          {"distortion_k1_k2_p1_p2_k3", k.distortion},
+          {"intrinsics_source", camera.intrinsics_from_options ? "--intrinsics" : camera.camera_file},
+          {"depth_scale", camera.depth_scale},
+          {"depth_scale_source", camera.depth_scale_source == "options"       ? "--depth-scale"
+                                 : camera.depth_scale_source == "camera file" ? camera.camera_file
+                                                                              : std::string("default (TUM)")},
+          {"max_range_m", camera.max_range}};
+}
+
+/// A note when the depth scale is TUM's default: a folder in millimetres
+/// read at 5000 counts per metre comes out five times too small.
+inline std::string depthScaleNote(const reconstruction::DepthCamera& camera) {
+  if (camera.depth_scale_source != "default") return {};
+  return "icrkit: depth scale " + std::to_string(static_cast<int>(camera.depth_scale)) +
+         " counts per metre (TUM's default); give --depth-scale (1000 for millimetres) if the images are not "
+         "in TUM's units";
+}
+
+}  // namespace icrkit::app

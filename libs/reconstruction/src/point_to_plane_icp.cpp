@@ -1,0 +1,187 @@
+#include <icrkit/reconstruction/point_to_plane_icp.hpp>
+
+#include <icrkit/core/error.hpp>
+
+#include <nanoflann.hpp>
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace icrkit::reconstruction {
+
+namespace {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+struct PointsAdaptor {
+  const std::vector<Eigen::Vector3d>* points;
+  std::size_t kdtree_get_point_count() const { return points->size(); }
+  double kdtree_get_pt(std::size_t index, std::size_t dim) const { return (*points)[index][static_cast<int>(dim)]; }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const {
+    return false;
+  }
+};
+
+using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor,
+                                                  3, std::size_t>;
+
+// The single nearest point under a distance bound: the bound prunes the
+// tree from the start, which a k = 1 search without it cannot do.
+class NearestWithin {
+public:
+  explicit NearestWithin(double bound_sq) : best_sq_(bound_sq) {}
+  std::size_t size() const { return found_ ? 1 : 0; }
+  bool full() const { return true; }
+  double worstDist() const { return best_sq_; }
+  bool addPoint(double dist_sq, std::size_t index) {
+    if (dist_sq < best_sq_ || (found_ && dist_sq == best_sq_ && index < index_)) {
+      best_sq_ = dist_sq;
+      index_ = index;
+      found_ = true;
+    }
+    return true;
+  }
+  long index() const { return found_ ? static_cast<long>(index_) : -1; }
+
+private:
+  double best_sq_;
+  std::size_t index_ = 0;
+  bool found_ = false;
+};
+
+Eigen::Isometry3d exponential(const Vector6d& x) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  const double angle = x.tail<3>().norm();
+  if (angle > 0) t.linear() = Eigen::AngleAxisd(angle, x.tail<3>() / angle).toRotationMatrix();
+  t.translation() = x.head<3>();
+  return t;
+}
+
+double tukeyWeight(double r, double width) {
+  const double u = r / width;
+  if (std::abs(u) >= 1.0) return 0.0;
+  const double a = 1.0 - u * u;
+  return a * a;
+}
+
+struct Normal {
+  Matrix6d hessian = Matrix6d::Zero();
+  Vector6d gradient = Vector6d::Zero();
+  double weighted_sq = 0.0, weight = 0.0;
+  std::size_t count = 0;
+};
+
+// The normal equations of the point-to-plane residuals at `pose`.
+Normal accumulate(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target, const Eigen::Isometry3d& pose,
+                  double max_distance, double width) {
+  Normal eq;
+  const auto& points = target.points();
+  const auto& normals = target.normals();
+  for (const Eigen::Vector3d& s : source) {
+    const Eigen::Vector3d p = pose * s;
+    const long k = target.nearest(p, max_distance);
+    if (k < 0) continue;
+    const Eigen::Vector3d& n = normals[static_cast<std::size_t>(k)];
+    const double r = n.dot(p - points[static_cast<std::size_t>(k)]);
+    const double w = tukeyWeight(r, width);
+    if (!(w > 0)) continue;
+    Vector6d j;
+    j.head<3>() = n;
+    j.tail<3>() = p.cross(n);
+    eq.hessian.noalias() += w * j * j.transpose();
+    eq.gradient.noalias() += w * r * j;
+    eq.weighted_sq += w * r * r;
+    eq.weight += w;
+    ++eq.count;
+  }
+  return eq;
+}
+
+}  // namespace
+
+struct IcpTarget::Impl {
+  std::vector<Eigen::Vector3d> points, normals;
+  PointsAdaptor adaptor{&points};
+  Index index;
+  Impl(std::vector<Eigen::Vector3d> p, std::vector<Eigen::Vector3d> n)
+      : points(std::move(p)), normals(std::move(n)), adaptor{&points},
+        index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
+    index.buildIndex();
+  }
+};
+
+IcpTarget::IcpTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals) {
+  if (points.empty()) throw InputError("ICP target", "", "no points");
+  if (points.size() != normals.size())
+    throw InputError("ICP target", "", std::to_string(points.size()) + " points but " +
+                                           std::to_string(normals.size()) + " normals");
+  impl_ = std::make_unique<Impl>(std::move(points), std::move(normals));
+}
+
+IcpTarget::~IcpTarget() = default;
+IcpTarget::IcpTarget(IcpTarget&&) noexcept = default;
+IcpTarget& IcpTarget::operator=(IcpTarget&&) noexcept = default;
+
+const std::vector<Eigen::Vector3d>& IcpTarget::points() const { return impl_->points; }
+const std::vector<Eigen::Vector3d>& IcpTarget::normals() const { return impl_->normals; }
+
+long IcpTarget::nearest(const Eigen::Vector3d& query, double max_distance) const {
+  NearestWithin set(max_distance * max_distance);
+  const double q[3] = {query.x(), query.y(), query.z()};
+  impl_->index.findNeighbors(set, q, nanoflann::SearchParams());
+  return set.index();
+}
+
+PointToPlaneIcpResult registerPointToPlane(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target,
+                                           const Eigen::Isometry3d& initial_guess,
+                                           const PointToPlaneIcpParameters& params) {
+  PointToPlaneIcpResult result;
+  result.pose = initial_guess;
+  if (source.empty() || params.max_distances.empty()) {
+    result.failed = true;
+    return result;
+  }
+  for (double max_distance : params.max_distances) {
+    const double width = std::min(params.kernel_width, max_distance);
+    result.converged = false;
+    for (int it = 0; it < params.max_iterations; ++it) {
+      const Normal eq = accumulate(source, target, result.pose, max_distance, width);
+      if (eq.count < params.min_correspondences) {
+        result.failed = true;
+        return result;
+      }
+      ++result.iterations;
+      // A tiny ridge keeps the step finite along directions the overlap
+      // does not constrain (a planar patch slides); the pose graph is told
+      // about them through the Hessian.
+      Matrix6d h = eq.hessian;
+      h.diagonal().array() += 1e-9 * std::max(1.0, h.diagonal().maxCoeff());
+      const Vector6d step = -h.ldlt().solve(eq.gradient);
+      if (!step.allFinite()) {
+        result.failed = true;
+        return result;
+      }
+      result.pose = exponential(step) * result.pose;
+      if (step.head<3>().norm() < params.translation_epsilon && step.tail<3>().norm() < params.rotation_epsilon) {
+        result.converged = true;
+        break;
+      }
+    }
+  }
+  const double last = params.max_distances.back();
+  const Normal eq = accumulate(source, target, result.pose, last, std::min(params.kernel_width, last));
+  result.correspondences = eq.count;
+  result.inlier_fraction = double(eq.count) / double(source.size());
+  result.rms_m = eq.weight > 0 ? std::sqrt(eq.weighted_sq / eq.weight) : 0.0;
+  result.hessian = 0.5 * (eq.hessian + eq.hessian.transpose());
+  if (eq.count < params.min_correspondences) result.failed = true;
+  return result;
+}
+
+}  // namespace icrkit::reconstruction
