@@ -33,21 +33,7 @@ import numpy as np
 import open3d as o3d
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from registration_measures import read_tum, umeyama_rigid  # noqa: E402
-
-
-def matrix_to_quat(r):
-    t = np.trace(r)
-    if t > 0:
-        s = 2 * np.sqrt(1 + t)
-        q = [(r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, s / 4]
-    else:
-        i = int(np.argmax(np.diag(r)))
-        j, k = (i + 1) % 3, (i + 2) % 3
-        s = 2 * np.sqrt(1 + r[i, i] - r[j, j] - r[k, k])
-        q = [0.0, 0.0, 0.0, (r[k, j] - r[j, k]) / s]
-        q[i], q[j], q[k] = s / 4, (r[j, i] + r[i, j]) / s, (r[k, i] + r[i, k]) / s
-    return np.array(q) / np.linalg.norm(q)
+from registration_measures import read_tum, umeyama_rigid, write_tum  # noqa: E402
 
 
 def main():
@@ -102,10 +88,7 @@ def main():
     poses = [fit @ p for p in poses]
     elapsed = time.perf_counter() - t0
 
-    with open(a.output, "w") as out:
-        for stamp, p in zip(stamps, poses):
-            q = matrix_to_quat(p[:3, :3])
-            out.write(f"{stamp} {p[0, 3]:.9f} {p[1, 3]:.9f} {p[2, 3]:.9f} {q[0]:.9f} {q[1]:.9f} {q[2]:.9f} {q[3]:.9f}\n")
+    write_tum(a.output, stamps, poses)
     json.dump({"views": n, "pairs": pairs, "time_s": elapsed, "open3d_version": o3d.__version__,
                "threads": os.cpu_count()}, sys.stdout)
     print()

@@ -44,6 +44,29 @@ def read_tum(path):
     return poses
 
 
+def matrix_to_quat(r):
+    """(x, y, z, w) of a rotation matrix, normalised (Shepperd's method)."""
+    t = np.trace(r)
+    if t > 0:
+        s = 2 * np.sqrt(1 + t)
+        q = [(r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, s / 4]
+    else:
+        i = int(np.argmax(np.diag(r)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2 * np.sqrt(1 + r[i, i] - r[j, j] - r[k, k])
+        q = [0.0, 0.0, 0.0, (r[k, j] - r[j, k]) / s]
+        q[i], q[j], q[k] = s / 4, (r[j, i] + r[i, j]) / s, (r[k, i] + r[i, k]) / s
+    return np.array(q) / np.linalg.norm(q)
+
+
+def write_tum(path, stamps, poses):
+    """TUM lines `stamp tx ty tz qx qy qz qw` (4 x 4 pose matrices)."""
+    with open(path, "w") as out:
+        for stamp, p in zip(stamps, poses):
+            q = matrix_to_quat(p[:3, :3])
+            out.write(f"{stamp} {p[0, 3]:.9f} {p[1, 3]:.9f} {p[2, 3]:.9f} {q[0]:.9f} {q[1]:.9f} {q[2]:.9f} {q[3]:.9f}\n")
+
+
 def umeyama_rigid(src, dst):
     """The rotation and translation taking src (N x 3) onto dst, no scale."""
     cs, cd = src.mean(0), dst.mean(0)

@@ -64,6 +64,29 @@ private:
   std::size_t count_ = 0;
 };
 
+// The single nearest point under a distance bound.
+class NearestWithinSet {
+public:
+  explicit NearestWithinSet(double bound_sq) : best_sq_(bound_sq) {}
+  std::size_t size() const { return found_ ? 1 : 0; }
+  bool full() const { return true; }
+  double worstDist() const { return best_sq_; }
+  bool addPoint(double dist_sq, std::size_t index) {
+    if (dist_sq < best_sq_ || (found_ && dist_sq == best_sq_ && index < index_)) {
+      best_sq_ = dist_sq;
+      index_ = index;
+      found_ = true;
+    }
+    return true;
+  }
+  long index() const { return found_ ? static_cast<long>(index_) : -1; }
+
+private:
+  double best_sq_;
+  std::size_t index_ = 0;
+  bool found_ = false;
+};
+
 }  // namespace
 
 struct KdTree::Impl {
@@ -127,6 +150,13 @@ void KdTree::indicesWithinRadiusInTreeOrder(const Eigen::Vector3d& query, double
                                             std::vector<std::size_t>& out) const {
   out.clear();
   impl_->radiusSearch(query, radius, nullptr, &out);
+}
+
+long KdTree::nearestWithin(const Eigen::Vector3d& query, double max_distance) const {
+  if (!(max_distance > 0.0) || impl_->adaptor.points->empty()) return -1;  // also rejects NaN
+  NearestWithinSet set(max_distance * max_distance);
+  impl_->index.findNeighbors(set, query.data(), nanoflann::SearchParams());
+  return set.index();
 }
 
 std::size_t KdTree::countWithinRadius(const Eigen::Vector3d& query, double radius) const {

@@ -213,3 +213,32 @@ TEST(KdTree, NearestNeighbourDistancesPerPoint) {
 
 }  // namespace
 }  // namespace icrkit
+
+namespace icrkit {
+namespace {
+
+TEST(KdTree, NearestWithinMatchesBruteForceAndHonoursTheBound) {
+  std::vector<Eigen::Vector3d> points = randomPoints(500, 9);
+  std::mt19937_64 rng(10);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  points.push_back(points[17]);  // a duplicate: the lower index wins
+  const KdTree tree(points);
+  EXPECT_EQ(tree.nearestWithin(points[17], 0.01), 17);
+  for (int q = 0; q < 200; ++q) {
+    const Eigen::Vector3d query(u(rng), u(rng), u(rng));
+    const double bound = 0.05 + 0.2 * (q % 3);
+    long best = -1;
+    double best_d = bound;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double d = (points[i] - query).norm();
+      if (d < best_d) { best_d = d; best = static_cast<long>(i); }
+    }
+    EXPECT_EQ(tree.nearestWithin(query, bound), best) << "query " << q;
+  }
+  EXPECT_EQ(tree.nearestWithin(Eigen::Vector3d(5, 5, 5), 1.0), -1);
+  EXPECT_EQ(tree.nearestWithin(points[3], 0.0), -1);
+  EXPECT_EQ(KdTree(std::vector<Eigen::Vector3d>{}).nearestWithin(Eigen::Vector3d::Zero(), 1.0), -1);
+}
+
+}  // namespace
+}  // namespace icrkit

@@ -2,7 +2,7 @@
 
 #include <icrkit/core/error.hpp>
 
-#include <nanoflann.hpp>
+#include <icrkit/core/kd_tree.hpp>
 
 #include <Eigen/Cholesky>
 
@@ -17,43 +17,6 @@ namespace {
 
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
-
-struct PointsAdaptor {
-  const std::vector<Eigen::Vector3d>* points;
-  std::size_t kdtree_get_point_count() const { return points->size(); }
-  double kdtree_get_pt(std::size_t index, std::size_t dim) const { return (*points)[index][static_cast<int>(dim)]; }
-  template <class BBox>
-  bool kdtree_get_bbox(BBox&) const {
-    return false;
-  }
-};
-
-using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor,
-                                                  3, std::size_t>;
-
-// The single nearest point under a distance bound: the bound prunes the
-// tree from the start, which a k = 1 search without it cannot do.
-class NearestWithin {
-public:
-  explicit NearestWithin(double bound_sq) : best_sq_(bound_sq) {}
-  std::size_t size() const { return found_ ? 1 : 0; }
-  bool full() const { return true; }
-  double worstDist() const { return best_sq_; }
-  bool addPoint(double dist_sq, std::size_t index) {
-    if (dist_sq < best_sq_ || (found_ && dist_sq == best_sq_ && index < index_)) {
-      best_sq_ = dist_sq;
-      index_ = index;
-      found_ = true;
-    }
-    return true;
-  }
-  long index() const { return found_ ? static_cast<long>(index_) : -1; }
-
-private:
-  double best_sq_;
-  std::size_t index_ = 0;
-  bool found_ = false;
-};
 
 Eigen::Isometry3d exponential(const Vector6d& x) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -107,13 +70,9 @@ Normal accumulate(const std::vector<Eigen::Vector3d>& source, const IcpTarget& t
 
 struct IcpTarget::Impl {
   std::vector<Eigen::Vector3d> points, normals;
-  PointsAdaptor adaptor{&points};
-  Index index;
+  KdTree tree;  // over `points`, which the Impl owns and never moves
   Impl(std::vector<Eigen::Vector3d> p, std::vector<Eigen::Vector3d> n)
-      : points(std::move(p)), normals(std::move(n)), adaptor{&points},
-        index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
-    index.buildIndex();
-  }
+      : points(std::move(p)), normals(std::move(n)), tree(points) {}
 };
 
 IcpTarget::IcpTarget(std::vector<Eigen::Vector3d> points, std::vector<Eigen::Vector3d> normals) {
@@ -132,10 +91,7 @@ const std::vector<Eigen::Vector3d>& IcpTarget::points() const { return impl_->po
 const std::vector<Eigen::Vector3d>& IcpTarget::normals() const { return impl_->normals; }
 
 long IcpTarget::nearest(const Eigen::Vector3d& query, double max_distance) const {
-  NearestWithin set(max_distance * max_distance);
-  const double q[3] = {query.x(), query.y(), query.z()};
-  impl_->index.findNeighbors(set, q, nanoflann::SearchParams());
-  return set.index();
+  return impl_->tree.nearestWithin(query, max_distance);
 }
 
 PointToPlaneIcpResult registerPointToPlane(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target,

@@ -39,6 +39,10 @@ public:
   /// serially); saves the sort where only that determinism is needed.
   void indicesWithinRadiusInTreeOrder(const Eigen::Vector3d& query, double radius,
                                       std::vector<std::size_t>& out) const;
+  /// The index of the nearest point closer than `max_distance`, or -1. The
+  /// bound prunes the search from the start (an ICP's pairing distance),
+  /// and nothing is allocated; ties go to the lower index.
+  long nearestWithin(const Eigen::Vector3d& query, double max_distance) const;
   /// Number of points with distance <= radius.
   std::size_t countWithinRadius(const Eigen::Vector3d& query, double radius) const;
 
