@@ -14,6 +14,8 @@
 #include <icrkit/sim/rawlog_writer.hpp>
 
 #include <gtest/gtest.h>
+
+#include "expect_input_error.hpp"
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
@@ -47,16 +49,7 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> loadWithMrpt(const std::str
   return out;
 }
 
-template <typename Function>
-InputError expectInputError(Function&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "", "");
-}
+using testing_support::expectInputError;
 
 TEST(RawlogReader, MatchesMrptUnprojection) {
   const std::string dir = simulatedRecording(4, false);

@@ -13,6 +13,8 @@
 #include <icrkit/reconstruction/tum_folder_reader.hpp>
 
 #include <gtest/gtest.h>
+
+#include "expect_input_error.hpp"
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -33,16 +35,7 @@ std::string sharedData(const std::string& relative) {
   return std::string(ICRKIT_SHARED_DATA_DIR) + "/" + relative;
 }
 
-template <typename Function>
-InputError expectInputError(Function&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "", "");
-}
+using testing_support::expectInputError;
 
 constexpr int kWidth = 8, kHeight = 6;
 
