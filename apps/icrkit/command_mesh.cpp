@@ -13,6 +13,7 @@
 #include <icrkit/reconstruction/ball_pivoting.hpp>
 #include <icrkit/reconstruction/octree_fusion.hpp>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct MeshOptions {
   bool estimate_normals = false;
   std::string normal_radius = "3x";
   std::string viewpoint;
+  double thinning = reconstruction::BallPivotingParameters{}.thinning_factor;
+  std::size_t fill_holes = reconstruction::BallPivotingParameters{}.close_holes_up_to;
+  std::size_t min_component_faces = 0;
 };
 
 nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
@@ -39,6 +43,11 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
     for (const Length& r : radii) target.push_back(r.value);
     params.gap_radius_factor = 0.0;  // the radii given are all there is
   }
+  if (!std::isfinite(options.thinning) || options.thinning < 0.0)
+    throw InputError("--thinning", "", "expected a finite factor >= 0 (0 = off)");
+  params.thinning_factor = options.thinning;
+  params.close_holes_up_to = options.fill_holes;
+  params.min_component_faces = options.min_component_faces;
   ndt::NormalEstimationParameters normal_params;
   const Length normal_radius = parseLength("--normal-radius", options.normal_radius);
   normal_params.radius = normal_radius.relative ? 0.0 : normal_radius.value;
@@ -99,6 +108,11 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
                          {"unused_points", r.unused_points},
                          {"duplicate_points", r.duplicate_points},
                          {"unoriented_points", r.unoriented_points},
+                         {"layer_thickness_m", r.layer_thickness},
+                         {"thinning_cell_m", r.thinning_cell},
+                         {"thinned_points", r.thinned_points},
+                         {"mesh_spacing_m", r.mesh_spacing},
+                         {"removed_faces", r.removed_faces},
                          {"boundary_edges", r.boundary_edges},
                          {"closed_holes", r.closed_holes},
                          {"boundary_loops", r.boundary_loops},
@@ -133,6 +147,20 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner) {
                       "Ball radii, increasing: metres (0.001,0.002) or multiples of the median nearest-neighbour "
                       "spacing (1.5x,2x). Default: 1.5x,2.5x, plus 2.2 times the 90th percentile of the "
                       "nearest-neighbour distances when that is over 3x (unevenly sampled clouds)");
+  command
+      ->add_option("--thinning", options->thinning,
+                   "A noise layer thicker than its spacing (a cloud fused from many views) is thinned to one point "
+                   "per cube of this factor x its measured thickness before pivoting; 0 = off (docs/meshing.md)")
+      ->capture_default_str();
+  command
+      ->add_option("--fill-holes", options->fill_holes,
+                   "Fill holes of up to this many boundary edges (and a perimeter of up to 8 x the largest radius) "
+                   "over their own points; 0 = off")
+      ->capture_default_str();
+  command
+      ->add_option("--min-component-faces", options->min_component_faces,
+                   "Take out components with fewer faces than this (flakes beside the surface); 0 = keep all")
+      ->capture_default_str();
   command->add_flag("--estimate-normals", options->estimate_normals,
                     "Estimate normals even when the input has some (done anyway when it has none)");
   command

@@ -85,7 +85,15 @@ nlohmann::json poseErrorJson(const reconstruction::PoseErrorSeries& s) {
 nlohmann::json meshingJson(const reconstruction::BallPivotingReport& r) {
   return {{"triangles", r.triangles},       {"used_points", r.used_points},
           {"unused_points", r.unused_points}, {"boundary_loops", r.boundary_loops},
-          {"components", r.components},     {"non_manifold_edges", r.non_manifold_edges}};
+          {"components", r.components},     {"non_manifold_edges", r.non_manifold_edges},
+          {"radii_m", [&r] {
+             std::vector<double> radii;
+             for (const auto& pass : r.passes) radii.push_back(pass.radius);
+             return radii;
+           }()},
+          {"layer_thickness_m", r.layer_thickness}, {"thinning_cell_m", r.thinning_cell},
+          {"thinned_points", r.thinned_points},     {"closed_holes", r.closed_holes},
+          {"removed_faces", r.removed_faces}};
 }
 
 nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& context) {

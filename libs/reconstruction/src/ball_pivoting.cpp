@@ -4,6 +4,8 @@
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
 
+#include "hole_triangulation.hpp"
+#include "layer_thinning.hpp"
 #include "morton_order.hpp"
 #include "point_grid.hpp"
 
@@ -112,6 +114,19 @@ public:
   }
 
   std::size_t unorientedPoints() const { return unoriented_; }
+  const std::vector<std::uint8_t>& skipped() const { return skipped_; }
+
+  // Leaves out the points `keep` does not flag (a thinned noise layer):
+  // like duplicates they never become vertices and never block a ball.
+  std::size_t markThinned(const std::vector<std::uint8_t>& keep) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      if (!keep[i] && !skipped_[i]) {
+        skipped_[i] = 1;
+        ++count;
+      }
+    return count;
+  }
 
   void run(const std::vector<double>& radii, BallPivotingReport& report) {
     for (std::size_t r = 0; r < radii.size(); ++r) {
@@ -168,60 +183,158 @@ public:
     return count;
   }
 
-  // Closes boundary loops of three or four edges with one or two faces
-  // when their winding agrees with the point normals: gaps the ball could
-  // not close because a point off the surface (a stray scan point) was the
-  // first it touched. Returns the number of loops closed.
-  std::size_t closeSmallHoles(std::size_t max_edges) {
-    if (max_edges < 3) return 0;
-    std::vector<std::pair<int, int>> boundary = boundaryHalfEdges();
-    std::sort(boundary.begin(), boundary.end());
-    // The single boundary half-edge leaving v, or -1 when there are none
-    // or several (a vertex where holes touch is left alone).
-    auto next = [&](int v) {
-      auto it = std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(v, -1));
-      if (it == boundary.end() || it->first != v) return -1;
-      if (it + 1 != boundary.end() && (it + 1)->first == v) return -1;
-      return it->second;
-    };
-    auto agrees = [&](int a, int b, int c) {
-      const Vector3d n = (p_[b] - p_[a]).cross(p_[c] - p_[a]);
-      return n.dot(normals_[a]) > 0.0 && n.dot(normals_[b]) > 0.0 && n.dot(normals_[c]) > 0.0;
-    };
-    std::size_t closed = 0;
-    for (const auto& [a, b] : boundary) {
-      // Each loop once: from its smallest vertex.
-      const int c = next(b);
-      if (c < 0 || a > b || a > c) continue;
-      const int d = next(c);
-      if (d == a) {
-        if (edges_[findEdge(a, b)].faceCount() != 1 || !agrees(a, c, b)) continue;
-        addFace(a, c, b);
-        ++closed;
-      } else if (max_edges >= 4 && d >= 0 && d > a && next(d) == a) {
-        if (edges_[findEdge(a, b)].faceCount() != 1) continue;
-        // The shorter diagonal, if it is not an edge already and both
-        // halves agree with the normals; else the other one.
-        const bool ac_first = (p_[a] - p_[c]).squaredNorm() <= (p_[b] - p_[d]).squaredNorm();
-        for (int attempt = 0; attempt < 2; ++attempt) {
-          if ((attempt == 0) == ac_first) {
-            if (findEdge(a, c) < 0 && agrees(a, d, c) && agrees(a, c, b)) {
-              addFace(a, d, c);
-              addFace(a, c, b);
-              ++closed;
-              break;
-            }
-          } else if (findEdge(b, d) < 0 && agrees(b, a, d) && agrees(b, d, c)) {
-            addFace(b, a, d);
-            addFace(b, d, c);
-            ++closed;
-            break;
-          }
-        }
-      }
+  // Fills the holes the balls left: every simple boundary cycle of at most
+  // `max_edges` edges and `max_perimeter` metres is triangulated over its
+  // own vertices (triangulatePolygon) when the faces can agree with the
+  // point normals and no chord is an edge already, so the mesh stays
+  // edge-manifold and consistently oriented. Such holes remain where a
+  // point off the surface (a stray sample, the noise layer of a fused
+  // cloud) is the first one the ball touches. A hole that cannot be filled
+  // as it is (a chord is an edge on the far side of a fold, a face would
+  // face away from its normals) gets a second chance: the faces around it
+  // are taken out and the larger, cleaner hole is filled instead, or they
+  // go back. Returns the number of holes filled.
+  std::size_t fillHoles(std::size_t max_edges, double max_perimeter) {
+    if (max_edges < 3 || !(max_perimeter > 0.0)) return 0;
+    std::size_t filled = 0;
+    std::vector<std::vector<int>> stubborn;
+    for (const std::vector<int>& cycle : simpleBoundaryCycles()) {
+      if (!withinBounds(cycle, max_edges, max_perimeter)) continue;
+      if (fillCycle(cycle)) ++filled;
+      else stubborn.push_back(cycle);
+    }
+    if (!stubborn.empty()) {
+      vertex_faces_.assign(p_.size(), {});
+      for (std::size_t f = 0; f < faces_.size(); ++f)
+        if (faces_[f][0] >= 0)
+          for (int k = 0; k < 3; ++k) vertex_faces_[faces_[f][k]].push_back(static_cast<int>(f));
+      for (const std::vector<int>& cycle : stubborn)
+        if (isBoundaryCycle(cycle) && refillAround(cycle, max_edges, max_perimeter)) ++filled;
+      vertex_faces_.clear();
+      refreshUse();
     }
     front_.clear();  // the faces added here need no pivoting
-    return closed;
+    return filled;
+  }
+
+  // Takes out the faces of components with fewer than `min_faces` faces:
+  // flakes of a noisy layer beside the surface. Returns how many went.
+  std::size_t removeSmallComponents(std::size_t min_faces) {
+    if (min_faces < 2) return 0;
+    std::vector<int> parent(p_.size());
+    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
+    auto root = [&](int v) {
+      while (parent[v] != v) v = parent[v] = parent[parent[v]];
+      return v;
+    };
+    for (const Triangle& f : faces_)
+      if (f[0] >= 0)
+        for (int k = 1; k < 3; ++k) parent[root(f[k])] = root(f[0]);
+    std::vector<std::size_t> size(p_.size(), 0);
+    for (const Triangle& f : faces_)
+      if (f[0] >= 0) ++size[root(f[0])];
+    std::size_t removed = 0;
+    for (std::size_t face = 0; face < faces_.size(); ++face)
+      if (faces_[face][0] >= 0 && size[root(faces_[face][0])] < min_faces) {
+        removeFace(static_cast<int>(face));
+        ++removed;
+      }
+    if (removed) refreshUse();
+    return removed;
+  }
+
+private:
+  bool withinBounds(const std::vector<int>& cycle, std::size_t max_edges, double max_perimeter) const {
+    if (cycle.size() > max_edges) return false;
+    double perimeter = 0.0;
+    for (std::size_t v = 0; v < cycle.size(); ++v) perimeter += (p_[cycle[(v + 1) % cycle.size()]] - p_[cycle[v]]).norm();
+    return perimeter <= max_perimeter;
+  }
+
+  // Whether every side of `cycle` is still a boundary edge that a face runs
+  // in the cycle's direction.
+  bool isBoundaryCycle(const std::vector<int>& cycle) const {
+    for (std::size_t v = 0; v < cycle.size(); ++v)
+      if (!canUse(cycle[(v + 1) % cycle.size()], cycle[v]) || findEdge(cycle[v], cycle[(v + 1) % cycle.size()]) < 0)
+        return false;
+    return true;
+  }
+
+  bool fillCycle(const std::vector<int>& cycle) {
+    // The cycle runs as its faces run their edges; the hole's faces run
+    // them the other way, so the polygon is the cycle reversed.
+    const std::vector<int> polygon(cycle.rbegin(), cycle.rend());
+    std::vector<Vector3d> positions, normals;
+    for (int v : polygon) {
+      positions.push_back(p_[v]);
+      normals.push_back(normals_[v]);
+    }
+    const PolygonTriangulation fill = triangulatePolygon(positions, normals, [&](int x, int y) {
+      if (polygon[x] == polygon[y]) return false;
+      const int e = findEdge(polygon[x], polygon[y]);
+      return e < 0 || edges_[e].faceCount() == 0;
+    });
+    if (!fill.found) return false;
+    for (const auto& t : fill.triangles) addFace(polygon[t[0]], polygon[t[1]], polygon[t[2]]);
+    return true;
+  }
+
+  bool refillAround(const std::vector<int>& cycle, std::size_t max_edges, double max_perimeter) {
+    std::vector<int> ring;
+    for (int v : cycle)
+      for (int f : vertex_faces_[v])
+        if (faces_[f][0] >= 0) ring.push_back(f);
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    std::vector<Triangle> saved;
+    for (int f : ring) saved.push_back(faces_[f]);
+    for (int f : ring) removeFace(f);
+    // The larger hole's rim: the removed faces' edges that a kept face
+    // still borders; it must be one clean cycle.
+    std::vector<std::pair<int, int>> rim;
+    for (const Triangle& f : saved)
+      for (int k = 0; k < 3; ++k) {
+        const int e = findEdge(f[k], f[(k + 1) % 3]);
+        if (edges_[e].faceCount() != 1) continue;
+        int i = -1, j = -1, o = -1;
+        orientedEdge(edges_[e], i, j, o);
+        rim.emplace_back(i, j);
+      }
+    std::sort(rim.begin(), rim.end());
+    rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
+    const std::vector<std::vector<int>> walks = traceBoundaryLoops(rim);
+    const bool clean = walks.size() == 1 && walks[0].size() == rim.size() &&
+                       std::binary_search(rim.begin(), rim.end(), std::make_pair(walks[0].back(), walks[0].front())) &&
+                       isBoundaryCycle(walks[0]) && std::is_sorted(rim.begin(), rim.end());
+    std::vector<int> seen(walks.empty() ? std::vector<int>{} : walks[0]);
+    std::sort(seen.begin(), seen.end());
+    const bool simple = std::adjacent_find(seen.begin(), seen.end()) == seen.end();
+    if (clean && simple && withinBounds(walks[0], 2 * max_edges, 2.0 * max_perimeter) && fillCycle(walks[0]))
+      return true;
+    for (const Triangle& f : saved) addFace(f[0], f[1], f[2]);
+    return false;
+  }
+
+public:
+  // The boundary as simple cycles (no repeated vertex), each in the
+  // direction its faces run its edges: a closed chain through a vertex
+  // where holes touch is split there into the holes it joins.
+  std::vector<std::vector<int>> simpleBoundaryCycles() const {
+    std::vector<std::vector<int>> cycles;
+    for (const std::vector<int>& walk : traceBoundaryLoops(boundaryHalfEdges())) {
+      std::vector<int> stack;
+      for (std::size_t v = 0; v <= walk.size(); ++v) {
+        const int vertex = walk[v % walk.size()];
+        const auto seen = std::find(stack.begin(), stack.end(), vertex);
+        if (seen == stack.end()) {
+          stack.push_back(vertex);
+          continue;
+        }
+        if (stack.end() - seen >= 3) cycles.emplace_back(seen, stack.end());
+        stack.erase(seen + 1, stack.end());
+      }
+    }
+    return cycles;
   }
 
   // The edges with one face, each as that face runs it.
@@ -243,11 +356,16 @@ public:
     report.boundary_loops = traceBoundaryLoops(std::move(boundary)).size();
     report.non_manifold_edges = 0;  // an edge never takes a third face
     report.euler_characteristic = static_cast<long>(std::count(used_.begin(), used_.end(), 1)) -
-                                  static_cast<long>(edges_.size()) + static_cast<long>(faces_.size());
+                                  static_cast<long>(std::count_if(edges_.begin(), edges_.end(),
+                                                                  [](const Edge& e) { return e.faceCount() > 0; })) +
+                                  static_cast<long>(std::count_if(faces_.begin(), faces_.end(),
+                                                                  [](const Triangle& f) { return f[0] >= 0; }));
   }
 
   /// The faces, in input indices.
   std::vector<Triangle> takeFaces() {
+    faces_.erase(std::remove_if(faces_.begin(), faces_.end(), [](const Triangle& f) { return f[0] < 0; }),
+                 faces_.end());
     for (Triangle& f : faces_)
       for (int k = 0; k < 3; ++k) f[k] = static_cast<int>(order_[static_cast<std::size_t>(f[k])]);
     return std::move(faces_);
@@ -280,7 +398,7 @@ private:
   // edge is new, or it borders exactly one face that runs it to -> from.
   bool canUse(int from, int to) const {
     const int e = findEdge(from, to);
-    if (e < 0) return true;
+    if (e < 0 || edges_[e].faceCount() == 0) return true;
     if (edges_[e].faceCount() != 1) return false;
     const Triangle& f = faces_[edges_[e].faces[0] >= 0 ? edges_[e].faces[0] : edges_[e].faces[1]];
     for (int k = 0; k < 3; ++k)
@@ -303,9 +421,10 @@ private:
       return;
     }
     Edge& edge = edges_[e];
+    const int delta = edge.faceCount() == 0 ? 1 : -1;
     (edge.faces[0] < 0 ? edge.faces[0] : edge.faces[1]) = face;
-    --open_edges_[from];
-    --open_edges_[to];
+    open_edges_[from] += delta;
+    open_edges_[to] += delta;
   }
 
   void addFace(int a, int b, int c) {
@@ -315,6 +434,30 @@ private:
     attachEdge(a, b, face);
     attachEdge(b, c, face);
     attachEdge(c, a, face);
+    if (!vertex_faces_.empty())
+      for (int v : {a, b, c}) vertex_faces_[v].push_back(face);
+  }
+
+  // Takes a face out (after the pivoting: hole repair). Its slot stays, as
+  // (-1, -1, -1), so that face indices keep their meaning; `used_` is
+  // brought up to date by refreshUse().
+  void removeFace(int face) {
+    Triangle& f = faces_[face];
+    for (int k = 0; k < 3; ++k) {
+      const int from = f[k], to = f[(k + 1) % 3];
+      Edge& edge = edges_[findEdge(from, to)];
+      const int delta = edge.faceCount() == 2 ? 1 : -1;
+      (edge.faces[0] == face ? edge.faces[0] : edge.faces[1]) = -1;
+      open_edges_[from] += delta;
+      open_edges_[to] += delta;
+    }
+    f = Triangle(-1, -1, -1);
+  }
+
+  void refreshUse() {
+    std::fill(used_.begin(), used_.end(), 0);
+    for (const Triangle& f : faces_)
+      if (f[0] >= 0) used_[f[0]] = used_[f[1]] = used_[f[2]] = 1;
   }
 
   bool findSeed(int v) {
@@ -455,6 +598,7 @@ private:
   std::size_t unoriented_ = 0;
   std::vector<int> open_edges_;           // per vertex: incident edges with one face
   std::vector<std::vector<int>> vertex_edges_;  // per vertex: edges whose smaller end it is
+  std::vector<std::vector<int>> vertex_faces_;  // per vertex: its faces, during hole repair only
   std::vector<Edge> edges_;
   std::vector<Triangle> faces_;
   std::deque<int> front_;
@@ -464,6 +608,14 @@ private:
   std::vector<BatchItem> batch_;
   tbb::enumerable_thread_specific<Scratch> scratch_;
 };
+
+// The layer's thickness is measured over windows of this many median
+// spacings (wide enough to hold both faces of a noise layer several
+// spacings thick; a quadric takes the curvature out), and the
+// layer is thinned only when the cell it asks for exceeds this many
+// spacings: a clean sample is left alone.
+constexpr double kThicknessWindow = 6.0;
+constexpr double kThinningThreshold = 1.5;
 
 void validateInput(const PointCloud& cloud) {
   if (cloud.size() < 3)
@@ -540,7 +692,6 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   const std::vector<double> nearest = nearestNeighbourDistances(pivoter.positions());
   const Spacing spacing_stats = spacingOf(nearest);
   const double spacing = spacing_stats.median;
-  const std::vector<double> radii = radiiFor(params, spacing_stats);
 
   BallPivotingResult result;
   BallPivotingReport& report = result.report;
@@ -549,8 +700,28 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
 
   report.duplicate_points = pivoter.markDuplicates(nearest, duplicate_distance);
   report.unoriented_points = pivoter.unorientedPoints();
+  Spacing mesh_spacing = spacing_stats;
+  if (!std::isfinite(params.thinning_factor) || params.thinning_factor < 0.0)
+    throw InputError("thinning_factor", "", "must be finite and >= 0");
+  if (params.thinning_factor > 0.0 && spacing > 0.0) {
+    report.layer_thickness = layerThickness(pivoter.positions(), pivoter.skipped(), kThicknessWindow * spacing);
+    const double cell = params.thinning_factor * report.layer_thickness;
+    if (cell > kThinningThreshold * spacing) {
+      report.thinning_cell = cell;
+      report.thinned_points = pivoter.markThinned(thinToCells(pivoter.positions(), pivoter.skipped(), cell));
+      std::vector<Vector3d> kept;
+      for (std::size_t i = 0; i < pivoter.positions().size(); ++i)
+        if (!pivoter.skipped()[i]) kept.push_back(pivoter.positions()[i]);
+      mesh_spacing = spacingOf(nearestNeighbourDistances(kept));
+    }
+  }
+  report.mesh_spacing = mesh_spacing.median;
+  const std::vector<double> radii = radiiFor(params, mesh_spacing);
   pivoter.run(radii, report);
-  report.closed_holes = pivoter.closeSmallHoles(params.close_holes_up_to);
+  if (!std::isfinite(params.hole_perimeter_factor))
+    throw InputError("hole_perimeter_factor", "", "must be finite");
+  report.closed_holes = pivoter.fillHoles(params.close_holes_up_to, params.hole_perimeter_factor * radii.back());
+  report.removed_faces = pivoter.removeSmallComponents(params.min_component_faces);
   pivoter.summarise(report);
 
   result.mesh.vertices = cloud;

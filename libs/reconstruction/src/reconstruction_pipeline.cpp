@@ -276,7 +276,9 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
   if (params.make_meshes) {
     auto start = Clock::now();
     report(progress, "raw mesh", 0, 1);
-    BallPivotingResult raw = ballPivoting(result.cloud, params.meshing);
+    BallPivotingParameters raw_meshing = params.meshing;
+    if (!params.thin_raw_cloud) raw_meshing.thinning_factor = 0.0;
+    BallPivotingResult raw = ballPivoting(result.cloud, raw_meshing);
     result.raw_mesh = std::move(raw.mesh);
     result.raw_meshing = raw.report;
     times.raw_mesh_ms = msSince(start);

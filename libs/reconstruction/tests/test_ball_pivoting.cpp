@@ -138,12 +138,24 @@ TEST(BallPivoting, NoisySphereStaysManifold) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> g(0.0, 0.5 * spacing);
   for (std::size_t i = 0; i < cloud.size(); ++i) cloud.positions[i] += g(rng) * cloud.normals[i];
-  const BallPivotingResult r = ballPivoting(cloud);
+  BallPivotingParameters unthinned;
+  unthinned.thinning_factor = 0.0;
+  const BallPivotingResult r = ballPivoting(cloud, unthinned);
   expectWellFormed(r);
   // Points more than about a spacing below their neighbours lie where no
   // empty ball reaches them: noise this strong leaves them unused (a fifth
   // of them here), and the surface stays one piece.
   EXPECT_GE(r.report.used_points, static_cast<std::size_t>(0.75 * static_cast<double>(cloud.size())));
+  // By default the layer (half a spacing either side) is measured and
+  // thinned to one point per cube of 8 x its thickness: the sphere closes.
+  const BallPivotingResult thinned = ballPivoting(cloud);
+  expectWellFormed(thinned);
+  EXPECT_NEAR(thinned.report.layer_thickness, 0.5 * spacing, 0.2 * spacing);
+  EXPECT_GT(thinned.report.thinned_points, cloud.size() / 2);
+  EXPECT_GE(thinned.report.used_points + thinned.report.thinned_points, 99 * cloud.size() / 100);
+  EXPECT_EQ(thinned.report.boundary_loops, 0u);
+  EXPECT_EQ(thinned.report.components, 1u);
+  EXPECT_EQ(thinned.report.euler_characteristic, 2);
   const MeshComponents parts = meshComponents(r.mesh);
   std::vector<std::size_t> sizes(parts.count, 0);
   for (int c : parts.face_component) ++sizes[static_cast<std::size_t>(c)];
@@ -200,6 +212,79 @@ TEST(BallPivoting, AutomaticRadiiFollowTheSampling) {
   given.radius_factors = {2.0};
   given.gap_radius_factor = 0.0;
   EXPECT_EQ(ballPivotingRadii(random, given), std::vector<double>{2.0 * spacing});
+}
+
+// A square grid of `n` x `n` points at 1 mm in z = 0, without the points
+// closer than `hole` to the centre, normals up.
+PointCloud gridWithHole(int n, double hole) {
+  PointCloud cloud;
+  const double centre = 0.5 * (n - 1) * 1e-3;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      // A small regular jitter keeps four points off a common circle.
+      const Eigen::Vector3d p(i * 1e-3 + 1e-5 * ((i * 7 + j * 3) % 5), j * 1e-3 + 1e-5 * ((i * 2 + j * 5) % 7), 0.0);
+      if ((p - Eigen::Vector3d(centre, centre, 0.0)).norm() < hole) continue;
+      cloud.positions.push_back(p);
+      cloud.normals.push_back(Eigen::Vector3d::UnitZ());
+    }
+  return cloud;
+}
+
+TEST(BallPivoting, HolesWithinTheBoundsAreFilledOverTheirOwnPoints) {
+  // A hole about 5 mm across: the 0.8 mm ball cannot bridge it.
+  const PointCloud cloud = gridWithHole(21, 2.6e-3);
+  BallPivotingParameters params;
+  params.radii = {0.8e-3};
+  params.close_holes_up_to = 0;
+  const BallPivotingResult open = ballPivoting(cloud, params);
+  expectWellFormed(open);
+  EXPECT_EQ(open.report.boundary_loops, 2u);  // the rim and the hole
+  EXPECT_EQ(open.report.euler_characteristic, 0);
+  // Its rim runs through the points 2.6-3.5 mm from the centre, a perimeter
+  // of about 20 mm = 25 radii: too long for the default bound (8 radii),
+  // filled with a bound of 40.
+  params.close_holes_up_to = 48;
+  const BallPivotingResult kept = ballPivoting(cloud, params);
+  EXPECT_EQ(kept.report.closed_holes, 0u);
+  EXPECT_EQ(kept.report.boundary_loops, 2u);
+  params.hole_perimeter_factor = 40.0;
+  const BallPivotingResult filled = ballPivoting(cloud, params);
+  expectWellFormed(filled);
+  EXPECT_EQ(filled.report.closed_holes, 1u);
+  EXPECT_EQ(filled.report.boundary_loops, 1u);
+  EXPECT_EQ(filled.report.euler_characteristic, 1);  // a disc
+  EXPECT_EQ(filled.mesh.vertices.positions, cloud.positions);
+  EXPECT_GT(filled.mesh.faces.size(), open.mesh.faces.size());
+  // The filled sheet is the whole 20 mm square again (jitter below 0.1 %).
+  EXPECT_NEAR(surfaceArea(filled.mesh), 4.0e-4, 4e-7);
+  EXPECT_LT(surfaceArea(open.mesh), 4.0e-4 - M_PI * 2.6e-3 * 2.6e-3);
+  // Too few edges allowed: left open.
+  params.close_holes_up_to = 6;
+  EXPECT_EQ(ballPivoting(cloud, params).report.boundary_loops, 2u);
+}
+
+TEST(BallPivoting, SmallComponentsAreTakenOutOnRequest) {
+  PointCloud cloud = gridWithHole(11, 0.0);
+  // A flake 5 mm above the sheet: one triangle of its own.
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.003, 0.003, 0.005), Eigen::Vector3d(0.0038, 0.003, 0.005),
+                                   Eigen::Vector3d(0.003, 0.0038, 0.005)}) {
+    cloud.positions.push_back(p);
+    cloud.normals.push_back(Eigen::Vector3d::UnitZ());
+  }
+  BallPivotingParameters params;
+  params.radii = {0.8e-3};
+  const BallPivotingResult all = ballPivoting(cloud, params);
+  EXPECT_EQ(all.report.components, 2u);
+  EXPECT_EQ(all.report.removed_faces, 0u);
+  params.min_component_faces = 2;
+  const BallPivotingResult clean = ballPivoting(cloud, params);
+  expectWellFormed(clean);
+  EXPECT_EQ(clean.report.components, 1u);
+  EXPECT_EQ(clean.report.removed_faces, 1u);
+  EXPECT_EQ(clean.mesh.faces.size() + 1, all.mesh.faces.size());
+  EXPECT_EQ(clean.report.unused_points, all.report.unused_points + 3);
+  EXPECT_EQ(clean.report.boundary_loops, 1u);
+  EXPECT_EQ(clean.mesh.vertices.size(), cloud.size());
 }
 
 TEST(BallPivoting, BadInput) {

@@ -39,11 +39,31 @@ struct BallPivotingParameters {
   /// paired when a seed triangle is searched (bounds the quadratic cost at
   /// points that can never seed, such as isolated outliers).
   std::size_t seed_neighbours = 24;
-  /// After the last radius, boundary loops of up to this many edges (3 or
-  /// 4; 0 = none) are closed with one or two faces when their winding
-  /// agrees with the point normals. Such gaps remain where a point off the
-  /// surface (a stray or noisy sample) is the first one the ball touches.
-  std::size_t close_holes_up_to = 4;
+  /// A cloud fused from many views is a noise layer as thick as its points
+  /// are dense, too rough for a ball of a few spacings: the layer's
+  /// thickness t (the median RMS distance of the points within 6 spacings
+  /// from a quadric fitted to them) is measured and, when this factor x t
+  /// exceeds 1.5 spacings, one point per cube of that edge (the one
+  /// nearest the cube's centroid) takes part, the others stay unused
+  /// vertices; automatic radii then follow the kept points' spacing. A
+  /// clean sample (a mesh's vertices, a laser scan) is left alone. 0 = off.
+  double thinning_factor = 8.0;
+  /// After the last radius, holes whose boundary (a simple cycle of
+  /// boundary edges) has at most this many edges and a perimeter of at
+  /// most `hole_perimeter_factor` x the largest radius are filled with
+  /// faces over their own points (a minimum-weight triangulation whose
+  /// faces agree with the point normals; no chord may be an edge already,
+  /// so the mesh stays edge-manifold). Such holes remain where a point off
+  /// the surface (a stray sample, the noise layer of a fused cloud) is the
+  /// first one the ball touches. 0 = none.
+  std::size_t close_holes_up_to = 48;
+  double hole_perimeter_factor = 8.0;
+  /// Finally, components (faces connected through shared points) with
+  /// fewer faces than this are taken out, their points left unused: flakes
+  /// of a noisy layer beside the surface. 0 = keep everything (the
+  /// default: a general mesher does not judge what is noise;
+  /// `icrkit reconstruct` sets it for fused clouds).
+  std::size_t min_component_faces = 0;
 };
 
 /// Per-radius statistics, in the order the radii were used.
@@ -57,13 +77,18 @@ struct BallPivotingPass {
 struct BallPivotingReport {
   std::vector<BallPivotingPass> passes;
   double median_spacing = 0.0;        ///< metres, of the input points
+  double layer_thickness = 0.0;       ///< metres (see `thinning_factor`; 0 when off)
+  double thinning_cell = 0.0;         ///< metres; 0 when the cloud was not thinned
+  std::size_t thinned_points = 0;     ///< of the unused ones: left out by the thinning
+  double mesh_spacing = 0.0;          ///< metres, median spacing of the points that took part
   std::size_t points = 0;
   std::size_t triangles = 0;
   std::size_t used_points = 0;        ///< points referenced by at least one triangle
   std::size_t unused_points = 0;      ///< points no triangle references (kept as vertices)
   std::size_t duplicate_points = 0;   ///< of the unused ones: duplicates of an earlier point
   std::size_t unoriented_points = 0;  ///< of the unused ones: points whose normal is zero
-  std::size_t closed_holes = 0;        ///< small loops closed after the last radius
+  std::size_t closed_holes = 0;        ///< holes filled after the last radius
+  std::size_t removed_faces = 0;       ///< faces of components below `min_component_faces`
   std::size_t boundary_edges = 0;
   std::size_t boundary_loops = 0;
   std::size_t non_manifold_edges = 0;  ///< always 0 by construction; reported as a check

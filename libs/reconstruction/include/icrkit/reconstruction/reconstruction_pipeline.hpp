@@ -97,8 +97,18 @@ struct ReconstructionParameters {
   /// window of a few fused spacings would not reach across the noise.
   ndt::SmoothingParameters smoothing;
   /// Ball pivoting of both clouds (radii relative to each cloud's own
-  /// spacing by default: the smoothed layer is thin and dense).
-  BallPivotingParameters meshing;
+  /// spacing by default: the smoothed layer is thin and dense). Flakes of
+  /// fewer than 24 faces beside the surface are dropped: a fused cloud's
+  /// noise layer leaves them, and each adds a boundary loop.
+  BallPivotingParameters meshing = [] {
+    BallPivotingParameters p;
+    p.min_component_faces = 24;
+    return p;
+  }();
+  /// The raw mesh is the paper's baseline, every fused point as it is:
+  /// false keeps its noise layer unthinned (`meshing.thinning_factor`
+  /// applies to the smoothed cloud only); its holes are then many.
+  bool thin_raw_cloud = false;
   /// false: stop after the fused cloud (no meshes).
   bool make_meshes = true;
   /// Keep each scan's object points (sensor frame) as handed to the

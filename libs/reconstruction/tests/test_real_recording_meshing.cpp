@@ -1,0 +1,46 @@
+// Meshing a real fused cloud: the PrimeSense bunny
+// (../shared/data/primesense-bunny) reconstructed end to end, both meshes
+// judged as issue 17 asks. Skipped without the data.
+
+#include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+
+#include <icrkit/core/mesh_topology.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+namespace icrkit::reconstruction {
+namespace {
+
+double largestComponentShare(const TriangleMesh& mesh) {
+  const MeshComponents parts = meshComponents(mesh);
+  std::vector<std::size_t> sizes(parts.count, 0);
+  for (int c : parts.face_component) ++sizes[static_cast<std::size_t>(c)];
+  return sizes.empty() ? 0.0 : double(*std::max_element(sizes.begin(), sizes.end())) / double(mesh.faces.size());
+}
+
+TEST(RealRecordingMeshing, PrimeSenseBunnyFilteredMeshIsOnePiece) {
+  const std::string dir = std::string(ICRKIT_SHARED_DATA_DIR) + "/primesense-bunny";
+  if (!std::filesystem::exists(dir + "/scans.rawlog")) GTEST_SKIP() << "shared test data not found: " << dir;
+  const ReconstructionResult r = reconstructRawlog(dir + "/scans.rawlog", {});
+  for (const auto* m : {&r.raw_meshing, &r.filtered_meshing})
+    std::printf("%s: %zu faces, %zu boundary loops, %zu components, %zu holes filled, %zu flake faces removed, "
+                "layer %.3f mm, %zu thinned\n",
+                m == &r.raw_meshing ? "raw" : "filtered", m->triangles, m->boundary_loops, m->components,
+                m->closed_holes, m->removed_faces, m->layer_thickness * 1e3, m->thinned_points);
+  // Measured: 59 loops (763 before hole filling), 99.8 % in one piece.
+  const BallPivotingReport& f = r.filtered_meshing;
+  EXPECT_LE(f.boundary_loops, 100u);
+  EXPECT_EQ(f.non_manifold_edges, 0u);
+  EXPECT_EQ(edgeStatistics(r.filtered_mesh).non_manifold_edges, 0u);
+  EXPECT_EQ(edgeStatistics(r.filtered_mesh).misoriented_edges, 0u);
+  EXPECT_GE(largestComponentShare(r.filtered_mesh), 0.98);
+  EXPECT_EQ(edgeStatistics(r.raw_mesh).non_manifold_edges, 0u);
+  EXPECT_GE(largestComponentShare(r.raw_mesh), 0.95);
+}
+
+}  // namespace
+}  // namespace icrkit::reconstruction
