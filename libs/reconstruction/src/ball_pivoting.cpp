@@ -191,9 +191,9 @@ public:
   // point off the surface (a stray sample, the noise layer of a fused
   // cloud) is the first one the ball touches. A hole that cannot be filled
   // as it is (a chord is an edge on the far side of a fold, a face would
-  // face away from its normals) gets a second chance: the faces around it
-  // are taken out and the larger, cleaner hole is filled instead, or they
-  // go back. Returns the number of holes filled.
+  // face away from its normals) gets more chances: one, two, then three
+  // rings of faces around it are taken out and the larger, cleaner hole is
+  // filled instead, or they go back. Returns the number of holes filled.
   std::size_t fillHoles(std::size_t max_edges, double max_perimeter) {
     if (max_edges < 3 || !(max_perimeter > 0.0)) return 0;
     std::size_t filled = 0;
@@ -209,7 +209,10 @@ public:
         if (faces_[f][0] >= 0)
           for (int k = 0; k < 3; ++k) vertex_faces_[faces_[f][k]].push_back(static_cast<int>(f));
       for (const std::vector<int>& cycle : stubborn)
-        if (isBoundaryCycle(cycle) && refillAround(cycle, max_edges, max_perimeter)) ++filled;
+        if (isBoundaryCycle(cycle) &&
+            (refillAround(cycle, max_edges, max_perimeter, 1) || refillAround(cycle, max_edges, max_perimeter, 2) ||
+             refillAround(cycle, max_edges, max_perimeter, 3)))
+          ++filled;
       vertex_faces_.clear();
       refreshUse();
     }
@@ -279,13 +282,22 @@ private:
     return true;
   }
 
-  bool refillAround(const std::vector<int>& cycle, std::size_t max_edges, double max_perimeter) {
-    std::vector<int> ring;
-    for (int v : cycle)
-      for (int f : vertex_faces_[v])
-        if (faces_[f][0] >= 0) ring.push_back(f);
-    std::sort(ring.begin(), ring.end());
-    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+  // `rings` rings of faces around the hole's points are taken out.
+  bool refillAround(const std::vector<int>& cycle, std::size_t max_edges, double max_perimeter, int rings) {
+    std::vector<int> ring, around(cycle);
+    for (int r = 0; r < rings; ++r) {
+      ring.clear();
+      for (int v : around)
+        for (int f : vertex_faces_[v])
+          if (faces_[f][0] >= 0) ring.push_back(f);
+      std::sort(ring.begin(), ring.end());
+      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+      around.clear();
+      for (int f : ring)
+        for (int k = 0; k < 3; ++k) around.push_back(faces_[f][k]);
+      std::sort(around.begin(), around.end());
+      around.erase(std::unique(around.begin(), around.end()), around.end());
+    }
     std::vector<Triangle> saved;
     for (int f : ring) saved.push_back(faces_[f]);
     for (int f : ring) removeFace(f);
@@ -309,7 +321,7 @@ private:
     std::vector<int> seen(walks.empty() ? std::vector<int>{} : walks[0]);
     std::sort(seen.begin(), seen.end());
     const bool simple = std::adjacent_find(seen.begin(), seen.end()) == seen.end();
-    if (clean && simple && withinBounds(walks[0], 2 * max_edges, 2.0 * max_perimeter) && fillCycle(walks[0]))
+    if (clean && simple && withinBounds(walks[0], 3 * max_edges, 3.0 * max_perimeter) && fillCycle(walks[0]))
       return true;
     for (const Triangle& f : saved) addFace(f[0], f[1], f[2]);
     return false;
