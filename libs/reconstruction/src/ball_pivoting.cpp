@@ -19,6 +19,8 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <array>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -194,24 +196,43 @@ public:
   // face away from its normals) gets more chances: one, two, then three
   // rings of faces around it are taken out and the larger, cleaner hole is
   // filled instead, or they go back. Returns the number of holes filled.
-  std::size_t fillHoles(std::size_t max_edges, double max_perimeter) {
+  //
+  // A larger hole, up to `seen_edges` edges, is filled only where the
+  // surface was seen: every point of the fill (sampled at a third of
+  // `support_distance`) must have an input point, used or not, within
+  // `support_distance`. Such holes are where the noise layer kept the balls
+  // out; an opening no view saw (an object's base) has no points inside.
+  std::size_t fillHoles(std::size_t max_edges, double max_perimeter, std::size_t seen_edges,
+                        double support_distance) {
     if (max_edges < 3 || !(max_perimeter > 0.0)) return 0;
     std::size_t filled = 0;
-    std::vector<std::vector<int>> stubborn;
+    std::vector<std::vector<int>> stubborn, stubborn_seen;
+    support_distance_ = support_distance;
     for (const std::vector<int>& cycle : simpleBoundaryCycles()) {
-      if (!withinBounds(cycle, max_edges, max_perimeter)) continue;
-      if (fillCycle(cycle)) ++filled;
-      else stubborn.push_back(cycle);
+      if (withinBounds(cycle, max_edges, max_perimeter)) {
+        if (fillCycle(cycle, false)) ++filled;
+        else stubborn.push_back(cycle);
+      } else if (cycle.size() <= seen_edges && support_distance > 0.0) {
+        if (fillCycle(cycle, true)) ++filled;
+        else stubborn_seen.push_back(cycle);
+      }
     }
-    if (!stubborn.empty()) {
+    if (!stubborn.empty() || !stubborn_seen.empty()) {
       vertex_faces_.assign(p_.size(), {});
       for (std::size_t f = 0; f < faces_.size(); ++f)
         if (faces_[f][0] >= 0)
           for (int k = 0; k < 3; ++k) vertex_faces_[faces_[f][k]].push_back(static_cast<int>(f));
       for (const std::vector<int>& cycle : stubborn)
-        if (isBoundaryCycle(cycle) &&
-            (refillAround(cycle, max_edges, max_perimeter, 1) || refillAround(cycle, max_edges, max_perimeter, 2) ||
-             refillAround(cycle, max_edges, max_perimeter, 3)))
+        if (isBoundaryCycle(cycle) && (refillAround(cycle, 3 * max_edges, 3.0 * max_perimeter, 1, false) ||
+                                       refillAround(cycle, 3 * max_edges, 3.0 * max_perimeter, 2, false) ||
+                                       refillAround(cycle, 3 * max_edges, 3.0 * max_perimeter, 3, false)))
+          ++filled;
+      // Seen holes the same way, the larger hole still checked against the
+      // points.
+      const double unbounded = std::numeric_limits<double>::infinity();
+      for (const std::vector<int>& cycle : stubborn_seen)
+        if (isBoundaryCycle(cycle) && (refillAround(cycle, seen_edges + 60, unbounded, 1, true) ||
+                                       refillAround(cycle, seen_edges + 60, unbounded, 2, true)))
           ++filled;
       vertex_faces_.clear();
       refreshUse();
@@ -263,7 +284,27 @@ private:
     return true;
   }
 
-  bool fillCycle(const std::vector<int>& cycle) {
+  // Whether every point of the faces (a, b, c) lies within
+  // `support_distance_` of an input point.
+  bool seen(const std::vector<std::array<int, 3>>& faces, const std::vector<int>& polygon) {
+    if (!support_) support_.emplace(p_);
+    const double step = support_distance_ / 3.0;
+    for (const auto& t : faces) {
+      const Vector3d& a = p_[polygon[t[0]]];
+      const Vector3d& b = p_[polygon[t[1]]];
+      const Vector3d& c = p_[polygon[t[2]]];
+      const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+      const int n = std::max(1, static_cast<int>(std::ceil(longest / step)));
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+          const Vector3d q = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
+          if (support_->nearestWithin(q, support_distance_) < 0) return false;
+        }
+    }
+    return true;
+  }
+
+  bool fillCycle(const std::vector<int>& cycle, bool must_be_seen) {
     // The cycle runs as its faces run their edges; the hole's faces run
     // them the other way, so the polygon is the cycle reversed.
     const std::vector<int> polygon(cycle.rbegin(), cycle.rend());
@@ -278,12 +319,14 @@ private:
       return e < 0 || edges_[e].faceCount() == 0;
     });
     if (!fill.found) return false;
+    if (must_be_seen && !seen(fill.triangles, polygon)) return false;
     for (const auto& t : fill.triangles) addFace(polygon[t[0]], polygon[t[1]], polygon[t[2]]);
     return true;
   }
 
   // `rings` rings of faces around the hole's points are taken out.
-  bool refillAround(const std::vector<int>& cycle, std::size_t max_edges, double max_perimeter, int rings) {
+  bool refillAround(const std::vector<int>& cycle, std::size_t max_edges, double max_perimeter, int rings,
+                    bool must_be_seen) {
     std::vector<int> ring, around(cycle);
     for (int r = 0; r < rings; ++r) {
       ring.clear();
@@ -321,7 +364,7 @@ private:
     std::vector<int> seen(walks.empty() ? std::vector<int>{} : walks[0]);
     std::sort(seen.begin(), seen.end());
     const bool simple = std::adjacent_find(seen.begin(), seen.end()) == seen.end();
-    if (clean && simple && withinBounds(walks[0], 3 * max_edges, 3.0 * max_perimeter) && fillCycle(walks[0]))
+    if (clean && simple && withinBounds(walks[0], max_edges, max_perimeter) && fillCycle(walks[0], must_be_seen))
       return true;
     for (const Triangle& f : saved) addFace(f[0], f[1], f[2]);
     return false;
@@ -611,6 +654,8 @@ private:
   std::vector<int> open_edges_;           // per vertex: incident edges with one face
   std::vector<std::vector<int>> vertex_edges_;  // per vertex: edges whose smaller end it is
   std::vector<std::vector<int>> vertex_faces_;  // per vertex: its faces, during hole repair only
+  std::optional<KdTree> support_;               // every input point, for holes that must have been seen
+  double support_distance_ = 0.0;
   std::vector<Edge> edges_;
   std::vector<Triangle> faces_;
   std::deque<int> front_;
@@ -732,7 +777,8 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   pivoter.run(radii, report);
   if (!std::isfinite(params.hole_perimeter_factor))
     throw InputError("hole_perimeter_factor", "", "must be finite");
-  report.closed_holes = pivoter.fillHoles(params.close_holes_up_to, params.hole_perimeter_factor * radii.back());
+  report.closed_holes = pivoter.fillHoles(params.close_holes_up_to, params.hole_perimeter_factor * radii.back(),
+                                          params.seen_holes_up_to, radii.back());
   report.removed_faces = pivoter.removeSmallComponents(params.min_component_faces);
   pivoter.summarise(report);
 

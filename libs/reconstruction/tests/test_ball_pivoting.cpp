@@ -263,6 +263,31 @@ TEST(BallPivoting, HolesWithinTheBoundsAreFilledOverTheirOwnPoints) {
   EXPECT_EQ(ballPivoting(cloud, params).report.boundary_loops, 2u);
 }
 
+TEST(BallPivoting, LargerHolesAreFilledOnlyWhereTheSurfaceWasSeen) {
+  // The same 5 mm hole, once empty (an opening no view saw) and once with
+  // its points present but without normals (seen, yet kept out of the
+  // pivoting, as a noise layer's buried points are).
+  BallPivotingParameters params;
+  params.radii = {0.8e-3};
+  const PointCloud empty = gridWithHole(21, 2.6e-3);
+  EXPECT_EQ(ballPivoting(empty, params).report.boundary_loops, 2u);
+  PointCloud seen = gridWithHole(21, 0.0);
+  std::size_t inside = 0;
+  for (std::size_t i = 0; i < seen.size(); ++i)
+    if ((seen.positions[i] - Eigen::Vector3d(0.01, 0.01, 0.0)).norm() < 2.6e-3) {
+      seen.normals[i].setZero();
+      ++inside;
+    }
+  ASSERT_GT(inside, 15u);
+  const BallPivotingResult filled = ballPivoting(seen, params);
+  expectWellFormed(filled);
+  EXPECT_EQ(filled.report.unoriented_points, inside);
+  EXPECT_EQ(filled.report.boundary_loops, 1u);
+  EXPECT_EQ(filled.report.euler_characteristic, 1);
+  params.seen_holes_up_to = 0;
+  EXPECT_EQ(ballPivoting(seen, params).report.boundary_loops, 2u);
+}
+
 TEST(BallPivoting, SmallComponentsAreTakenOutOnRequest) {
   PointCloud cloud = gridWithHole(11, 0.0);
   // A flake 5 mm above the sheet: one triangle of its own.

@@ -60,6 +60,11 @@ struct BallPivotingParameters {
   /// first one the ball touches. 0 = none.
   std::size_t close_holes_up_to = 48;
   double hole_perimeter_factor = 8.0;
+  /// Larger holes, of up to this many edges, are filled the same way only
+  /// where the surface was seen: every point of the fill must lie within
+  /// the largest radius of an input point (used or not). An opening no
+  /// view saw (an object's base) has none inside and stays open. 0 = none.
+  std::size_t seen_holes_up_to = 200;
   /// Finally, components (faces connected through shared points) with
   /// fewer faces than this are taken out, their points left unused: flakes
   /// of a noisy layer beside the surface. 0 = keep everything (the
