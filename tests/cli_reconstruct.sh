@@ -279,6 +279,9 @@ if [ -z "$data" ] || [ ! -f "$bunny/tum/depth.txt" ] || [ ! -f "$bunny/scans.raw
   echo "note: shared primesense-bunny data not found under '${data}'; its checks skipped" >&2
 else
   bunny_flags=(--intrinsics 542,540.5,320,240 --depth-scale 1000)
+  # Without a pose file every view sits at the same pose: say what is missing.
+  expect_input_error "give the camera poses (--poses FILE" "$ICRKIT" reconstruct "$bunny/tum" -o "$work/bunny_noposes" \
+    "${bunny_flags[@]}"
   "$ICRKIT" reconstruct "$bunny/tum" -o "$work/bunny_folder" "${bunny_flags[@]}" --poses "$bunny/tum/reported.txt" \
     --gt-poses "$bunny/tum/groundtruth.txt" --no-registration --no-meshes --json >"$work/bunny_folder.json" \
     2>"$work/err" || fail "reconstruct of the bunny folder failed: $(cat "$work/err")"

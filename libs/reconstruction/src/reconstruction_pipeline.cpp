@@ -163,6 +163,13 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     result.crop_box = *params.crop_box;
   } else {
     const std::optional<Eigen::Vector3d> centre = convergencePoint(result.reported_poses);
+    const bool one_pose = n > 1 && std::all_of(result.reported_poses.begin(), result.reported_poses.end(),
+                                               [&](const Eigen::Isometry3d& p) {
+                                                 return p.isApprox(result.reported_poses.front(), 1e-12);
+                                               });
+    if (!centre && one_pose)
+      throw InputError(rawlog, "", "every view has the same pose (a depth folder read without a pose file has none): "
+                                   "give the camera poses (--poses FILE, TUM) or the object's region (--crop)");
     if (!centre)
       throw InputError(rawlog, "", "cannot place the crop box: the views' optical axes do not converge on an object "
                                    "(give the object's region explicitly)");
