@@ -360,7 +360,7 @@ private:
     const std::vector<std::vector<int>> walks = traceBoundaryLoops(rim);
     const bool clean = walks.size() == 1 && walks[0].size() == rim.size() &&
                        std::binary_search(rim.begin(), rim.end(), std::make_pair(walks[0].back(), walks[0].front())) &&
-                       isBoundaryCycle(walks[0]) && std::is_sorted(rim.begin(), rim.end());
+                       isBoundaryCycle(walks[0]);
     std::vector<int> seen(walks.empty() ? std::vector<int>{} : walks[0]);
     std::sort(seen.begin(), seen.end());
     const bool simple = std::adjacent_find(seen.begin(), seen.end()) == seen.end();

@@ -1,5 +1,7 @@
 #include "layer_thinning.hpp"
 
+#include "cube_key.hpp"
+
 #include <icrkit/core/kd_tree.hpp>
 
 #include <Eigen/Cholesky>
@@ -90,23 +92,18 @@ std::vector<std::uint8_t> thinToCells(const std::vector<Eigen::Vector3d>& points
     std::size_t best = 0;
     double best_distance = std::numeric_limits<double>::infinity();
   };
-  auto key = [cell](const Eigen::Vector3d& p) {
-    // 21 bits per axis: +-1e6 cells, far beyond any scanned object.
-    const auto axis = [cell](double x) {
-      return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / cell)) + (1 << 20)) & 0x1FFFFF;
-    };
-    return axis(p.x()) | (axis(p.y()) << 21) | (axis(p.z()) << 42);
-  };
-  std::unordered_map<std::uint64_t, Cube> cubes;
+  std::vector<std::int64_t> keys(points.size(), 0);
+  std::unordered_map<std::int64_t, Cube> cubes;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!skip.empty() && skip[i]) continue;
-    Cube& c = cubes[key(points[i])];
+    keys[i] = cubeKey(points[i], cell);
+    Cube& c = cubes[keys[i]];
     c.sum += points[i];
     ++c.count;
   }
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!skip.empty() && skip[i]) continue;
-    Cube& c = cubes[key(points[i])];
+    Cube& c = cubes[keys[i]];
     const double d = (points[i] - c.sum / double(c.count)).squaredNorm();
     if (d < c.best_distance) {  // strict: the lower index wins a tie
       c.best_distance = d;

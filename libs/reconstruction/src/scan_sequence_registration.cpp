@@ -6,6 +6,7 @@
 
 #include <icrkit/reconstruction/pose_graph_variance.hpp>
 
+#include "cube_key.hpp"
 #include "registration_observability.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -39,17 +40,6 @@ PointCloud positionsOnly(const std::vector<Eigen::Vector3d>& points) {
   PointCloud cloud;
   cloud.positions = points;
   return cloud;
-}
-
-// The cube of edge `size` holding p, as one integer (21 bits per axis).
-std::int64_t cubeKey(const Eigen::Vector3d& p, double size) {
-  constexpr std::int64_t kHalf = 1 << 20;
-  std::int64_t key = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double c = std::clamp(std::floor(p(k) / size), -double(kHalf), double(kHalf - 1));
-    key = (key << 21) | (static_cast<std::int64_t>(c) + kHalf);
-  }
-  return key;
 }
 
 // Centroids of the model's points per cube. An ordered map: the target is
