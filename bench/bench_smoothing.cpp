@@ -102,7 +102,7 @@ void BM_SmoothPointCloud(benchmark::State& state) {
     PointCloud cloud = f.cloud;
     state.ResumeTiming();
     const auto summary = icrkit::ndt::smoothPointCloud(cloud, params);
-    mean_cardinality = summary.mean_cardinality;
+    mean_cardinality = summary.preselection.mean_cardinality;
     benchmark::DoNotOptimize(cloud.positions.data());
   }
   report(state);
@@ -202,7 +202,7 @@ void BM_OrientNormals(benchmark::State& state) {
   PointCloud smoothed = f.cloud;
   icrkit::ndt::SmoothingParameters params;
   params.radius = f.radius;
-  params.preselect = false;
+  params.preselection.rule = icrkit::ndt::PreselectionRule::None;
   icrkit::ndt::smoothPointCloud(smoothed, params);
   for (auto _ : state) {
     state.PauseTiming();

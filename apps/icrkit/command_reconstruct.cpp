@@ -7,6 +7,7 @@
 #include "argument_parsing.hpp"
 #include "commands.hpp"
 #include "depth_folder_options.hpp"
+#include "preselection_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
@@ -51,6 +52,8 @@ struct ReconstructOptions {
   double voxel = 0.004;
   std::string smoothing_radius = "4x";
   int passes = 1;
+  std::string preselection = "default";
+  bool mesh_kept_points_only = false;
   double board_square = 0.0;
   std::string board_origin;
   DepthFolderFlags folder;
@@ -153,6 +156,8 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   if (radius.relative) params.smoothing.radius_factor = radius.value;
   if (options.passes < 1) throw InputError("--passes", "", "expected at least 1");
   params.smoothing.passes = options.passes;
+  params.smoothing.preselection.rule = ndt::parsePreselectionRule(options.preselection);
+  params.mesh_kept_points_only = options.mesh_kept_points_only;
 
   // The ground truth is read (and for a folder matched to its frames)
   // before the long run, so that a bad file fails at once.
@@ -338,9 +343,12 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
     summary["filtered_mesh"] = meshingJson(result.filtered_meshing);
     summary["smoothing"] = {{"radius_m", result.smoothing.radius_m},
                             {"passes", result.smoothing.passes},
-                            {"excluded", result.smoothing.excluded},
-                            {"cardinality_threshold", result.smoothing.cardinality_threshold},
-                            {"flatness_threshold", result.smoothing.flatness_threshold},
+                            {"preselection", preselectionJson(result.smoothing.preselection)},
+                            {"excluded", result.smoothing.preselection.excluded},
+                            {"cardinality_threshold", result.smoothing.preselection.cardinality_threshold},
+                            {"flatness_threshold", result.smoothing.preselection.flatness_threshold},
+                            {"mesh_kept_points_only", params.mesh_kept_points_only},
+                            {"dropped_excluded", result.dropped_excluded},
                             {"mean_displacement_mm", result.smoothing.mean_displacement_m * 1e3}};
   }
   if (!truth.empty()) {
@@ -444,6 +452,10 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
                    "3D-NDT smoothing window: metres or a multiple of a single scan's median point spacing")
       ->capture_default_str();
   command->add_option("--passes", options->passes, "3D-NDT smoothing passes")->capture_default_str();
+  addPreselectionOption(*command, options->preselection, "for the filtered mesh");
+  command->add_flag("--mesh-kept-points-only", options->mesh_kept_points_only,
+                    "Drop the excluded points before meshing the smoothed cloud (the filtered mesh then has no "
+                    "excluded vertex)");
   command->callback([&runner, options] {
     runner = [options](CommandContext& context) { context.emit(reconstruct(*options, context)); };
   });

@@ -4,6 +4,7 @@
 
 #include "argument_parsing.hpp"
 #include "commands.hpp"
+#include "preselection_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/file_format.hpp>
@@ -25,7 +26,8 @@ struct SmoothOptions {
   std::string output;
   std::string radius = "4x";
   int passes = 1;
-  bool no_preselect = false;
+  std::string preselection = "default";
+  bool no_preselect = false;  ///< the older spelling of --preselection none
   std::optional<double> cardinality_threshold;
   std::optional<double> flatness_threshold;
   std::string viewpoint;
@@ -48,11 +50,12 @@ ndt::SmoothingParameters parameters(const SmoothOptions& options) {
   // before a large file is read.
   if (options.passes < 1) throw InputError("--passes", "", "at least one pass, got " + std::to_string(options.passes));
   params.passes = options.passes;
-  params.preselect = !options.no_preselect;
+  params.preselection.rule =
+      options.no_preselect ? ndt::PreselectionRule::None : ndt::parsePreselectionRule(options.preselection);
   checkThreshold("--cardinality-threshold", options.cardinality_threshold);
   checkThreshold("--flatness-threshold", options.flatness_threshold);
-  params.cardinality_threshold = options.cardinality_threshold;
-  params.flatness_threshold = options.flatness_threshold;
+  params.preselection.cardinality_threshold = options.cardinality_threshold;
+  params.preselection.flatness_threshold = options.flatness_threshold;
   if (!options.viewpoint.empty()) params.viewpoint = parsePoint("--viewpoint", options.viewpoint);
   return params;
 }
@@ -79,12 +82,8 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
 
   nlohmann::json viewpoint = nullptr;
   if (params.viewpoint) viewpoint = {params.viewpoint->x(), params.viewpoint->y(), params.viewpoint->z()};
-  nlohmann::json excluded = nullptr;
-  if (params.preselect)
-    excluded = {{"total", s.excluded},
-                {"cardinality_only", s.excluded_cardinality_only},
-                {"flatness_only", s.excluded_flatness_only},
-                {"both", s.excluded_both}};
+  const nlohmann::json preselection = preselectionJson(s.preselection, params.preselection.cardinality_threshold.has_value(),
+                                                       params.preselection.flatness_threshold.has_value());
   nlohmann::json summary{
       {"input", options.input},
       {"output", options.output},
@@ -96,15 +95,13 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
       {"median_spacing_m", s.median_spacing_m > 0 ? nlohmann::json(s.median_spacing_m) : nlohmann::json(nullptr)},
       {"passes", s.passes},
       {"small_windows", s.small_windows},
-      {"mean_cardinality", s.mean_cardinality},
-      {"mean_flatness", s.mean_flatness},
-      {"preselect", params.preselect},
-      {"thresholds",
-       {{"cardinality", s.cardinality_threshold},
-        {"cardinality_source", params.cardinality_threshold ? "given" : "mean"},
-        {"flatness", s.flatness_threshold},
-        {"flatness_source", params.flatness_threshold ? "given" : "mean"}}},
-      {"excluded", excluded},
+      {"mean_cardinality", s.preselection.mean_cardinality},
+      {"mean_flatness", s.preselection.mean_flatness},
+      {"median_cardinality", s.preselection.median_cardinality},
+      {"median_flatness", s.preselection.median_flatness},
+      {"preselection", preselection["rule"]},
+      {"thresholds", preselection["thresholds"]},
+      {"excluded", preselection["excluded"]},
       {"mean_displacement_m", s.mean_displacement_m},
       {"max_displacement_m", s.max_displacement_m},
       {"viewpoint", viewpoint},
@@ -134,11 +131,12 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
       ->capture_default_str();
   command->add_option("--passes", options->passes, "Smoothing passes k, each from the previous pass's output")
       ->capture_default_str();
-  command->add_flag("--no-preselect", options->no_preselect, "Do not mark points as excluded");
+  addPreselectionOption(*command, options->preselection, "marking points as excluded");
+  command->add_flag("--no-preselect", options->no_preselect, "Same as --preselection none: no 'excluded' flags");
   command->add_option("--cardinality-threshold", options->cardinality_threshold,
-                      "Exclude points whose window holds fewer points (default: the mean cardinality)");
+                      "Exclude points whose window holds fewer points (default: the rule's own threshold)");
   command->add_option("--flatness-threshold", options->flatness_threshold,
-                      "Exclude points whose flatness sqrt(l2/l3) is lower (default: the mean flatness)");
+                      "Exclude points whose flatness sqrt(l2/l3) is lower (default: the rule's own threshold)");
   command->add_option("--viewpoint", options->viewpoint,
                       "Sensor position x,y,z (metres): normals point towards it (default: outwards from the "
                       "centroid, made consistent over neighbours)");

@@ -180,45 +180,33 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
     orientNormalsOverGraph(cloud, graph);
 
   // Serial sums in index order: the same bits whatever the thread count.
-  double cardinality_sum = 0, flatness_sum = 0, displacement_sum = 0;
+  double displacement_sum = 0;
   std::vector<double> displacement(n);
   for (std::size_t i = 0; i < n; ++i) {
-    cardinality_sum += cardinality[i];
-    flatness_sum += flat[i];
     displacement[i] = (cloud.positions[i] - original[i]).norm();
     displacement_sum += displacement[i];
     summary.max_displacement_m = std::max(summary.max_displacement_m, displacement[i]);
     if (cardinality[i] < 3) ++summary.small_windows;
   }
-  summary.mean_cardinality = cardinality_sum / static_cast<double>(n);
-  summary.mean_flatness = flatness_sum / static_cast<double>(n);
   summary.mean_displacement_m = displacement_sum / static_cast<double>(n);
-  summary.cardinality_threshold = params.cardinality_threshold.value_or(summary.mean_cardinality);
-  summary.flatness_threshold = params.flatness_threshold.value_or(summary.mean_flatness);
 
   auto& card_attr = cloud.attributes.add("cardinality", ScalarType::Int32, n);
   auto& flat_attr = cloud.attributes.add("flatness", ScalarType::Float32, n);
   auto& disp_attr = cloud.attributes.add("displacement", ScalarType::Float32, n);
   for (std::size_t i = 0; i < n; ++i) {
     card_attr.values[i] = cardinality[i];
-    flat_attr.values[i] = flat[i];
+    // As the file will hold it, so that a preselection re-run from the file
+    // (icrkit evaluate --preselection) decides exactly as this one.
+    flat_attr.values[i] = representAs(ScalarType::Float32, flat[i]);
     disp_attr.values[i] = displacement[i];
   }
-  if (params.preselect) {
-    auto& excluded = cloud.attributes.add("excluded", ScalarType::UInt8, n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const bool sparse = cardinality[i] < summary.cardinality_threshold;
-      const bool rough = flat[i] < summary.flatness_threshold;
-      excluded.values[i] = (sparse || rough) ? 1.0 : 0.0;
-      if (sparse && rough)
-        ++summary.excluded_both;
-      else if (sparse)
-        ++summary.excluded_cardinality_only;
-      else if (rough)
-        ++summary.excluded_flatness_only;
-    }
-    summary.excluded = summary.excluded_both + summary.excluded_cardinality_only + summary.excluded_flatness_only;
-  }
+  Preselection chosen = preselect(card_attr.values, flat_attr.values, params.preselection);
+  summary.preselection = chosen.summary;
+  if (params.preselection.rule == PreselectionRule::None)
+    cloud.attributes.remove("excluded");  // an input's old flags would no longer describe it
+  else
+    cloud.attributes.add("excluded", ScalarType::UInt8,
+                         std::vector<double>(chosen.excluded.begin(), chosen.excluded.end()));
   summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

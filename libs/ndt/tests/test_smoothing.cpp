@@ -118,8 +118,8 @@ EdgeFaceRates boxExclusionRates(const SmoothingParameters& params, const char* l
   const SmoothingSummary& m = rates.summary;
   std::printf("[ box, %s ] r = %.3f mm; excluded: within r of an edge %.1f %% of %zu, faces %.1f %% of %zu "
               "(cardinality only %zu, flatness only %zu, both %zu; thresholds %.1f points, flatness %.3f)\n",
-              label, m.radius_m * 1e3, 100 * rates.edge, edge, 100 * rates.face, face, m.excluded_cardinality_only,
-              m.excluded_flatness_only, m.excluded_both, m.cardinality_threshold, m.flatness_threshold);
+              label, m.radius_m * 1e3, 100 * rates.edge, edge, 100 * rates.face, face, m.preselection.excluded_cardinality_only,
+              m.preselection.excluded_flatness_only, m.preselection.excluded_both, m.preselection.cardinality_threshold, m.preselection.flatness_threshold);
   return rates;
 }
 
@@ -128,7 +128,8 @@ TEST(Smoothing, FlatnessExcludesPointsNearTheEdgesOfABoxFarMoreOftenThanFacePoin
   // sharp edge holds two perpendicular planes, so l3 is large. Cardinality is
   // switched off here (threshold 0); see the next test for the full rule.
   SmoothingParameters params;
-  params.cardinality_threshold = 0.0;
+  params.preselection.rule = PreselectionRule::PaperMean;
+  params.preselection.cardinality_threshold = 0.0;
   const EdgeFaceRates rates = boxExclusionRates(params, "flatness only");
   EXPECT_GE(rates.edge, 2.0 * rates.face);
   EXPECT_GE(rates.edge, 0.8);
@@ -142,9 +143,44 @@ TEST(Smoothing, PaperRuleExcludesAlmostAllEdgePointsOfABox) {
   // evenly sampled box the mean cardinality lies above the typical face
   // window and the cardinality criterion removes face points. The edge rate
   // must still be near 1 and clearly above the face rate.
-  const EdgeFaceRates rates = boxExclusionRates(SmoothingParameters{}, "paper rule");
+  SmoothingParameters params;
+  params.preselection.rule = PreselectionRule::PaperMean;
+  const EdgeFaceRates rates = boxExclusionRates(params, "paper rule");
   EXPECT_GE(rates.edge, 0.9);
   EXPECT_GE(rates.edge, rates.face + 0.15);
+}
+
+TEST(Smoothing, DefaultRuleExcludesBoxEdgesFiveTimesAsOftenAsFacesAndKeepsTheFaces) {
+  // Noise as large as the spacing (1 mm, r = 4 mm) leaves a face window a
+  // flatness of only ~2, and a window across the edge ~1.6: the default
+  // rule excludes what is clearly less flat than the noise makes the cloud
+  // (issue 18: edges >= 5x as often as faces, faces <= 10 %).
+  const EdgeFaceRates rates = boxExclusionRates(SmoothingParameters{}, "default rule");
+  EXPECT_EQ(rates.summary.preselection.rule, PreselectionRule::Robust);
+  EXPECT_GE(rates.edge, 5.0 * rates.face);
+  EXPECT_LE(rates.face, 0.10);
+  EXPECT_GT(rates.edge, 0.0);
+}
+
+TEST(Smoothing, DefaultRuleExcludesTheEdgesOfANoiseFreeBoxOutright) {
+  // Without noise the faces are exactly flat (F at its cap): there is no
+  // noise to be relative to, and `always_flat` decides. Every point at the
+  // edge itself goes, no face point does.
+  const SyntheticCloud s = test::makeBox(0.08, kSpacing, 0.0, 104);
+  PointCloud cloud = s.cloud;
+  const SmoothingSummary summary = smoothPointCloud(cloud);
+  std::size_t at_edge = 0, at_edge_excluded = 0, face_excluded = 0, face = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (s.edge_distance[i] < kSpacing) {
+      ++at_edge;
+      at_edge_excluded += cloud.flag("excluded", i);
+    } else if (s.edge_distance[i] > summary.radius_m) {
+      ++face;
+      face_excluded += cloud.flag("excluded", i);
+    }
+  }
+  EXPECT_EQ(at_edge_excluded, at_edge);
+  EXPECT_EQ(face_excluded, 0u) << "of " << face;
 }
 
 TEST(Smoothing, AFewDegenerateWindowsDoNotDecideThePreselectionOfTheWholeCloud) {
@@ -156,7 +192,7 @@ TEST(Smoothing, AFewDegenerateWindowsDoNotDecideThePreselectionOfTheWholeCloud) 
   const SyntheticCloud s = test::makePlane(150, kSpacing, 0.0005, 81);
   PointCloud clean_run = s.cloud;
   const SmoothingSummary reference = smoothPointCloud(clean_run);
-  const double reference_rate = static_cast<double>(reference.excluded) / static_cast<double>(reference.points);
+  const double reference_rate = static_cast<double>(reference.preselection.excluded) / static_cast<double>(reference.points);
 
   PointCloud cloud = s.cloud;
   for (int k = 0; k < 5; ++k) {  // five triples 30 mm above the plane, 30 mm apart
@@ -170,7 +206,7 @@ TEST(Smoothing, AFewDegenerateWindowsDoNotDecideThePreselectionOfTheWholeCloud) 
   for (std::size_t i = 0; i < s.cloud.size(); ++i) surface_excluded += cloud.flag("excluded", i);
   const double rate = static_cast<double>(surface_excluded) / static_cast<double>(s.cloud.size());
   std::printf("[ plane + 5 triples ] mean flatness %.3f -> %.3f, surface points excluded %.1f %% -> %.1f %%\n",
-              reference.mean_flatness, summary.mean_flatness, 100 * reference_rate, 100 * rate);
+              reference.preselection.mean_flatness, summary.preselection.mean_flatness, 100 * reference_rate, 100 * rate);
   for (std::size_t i = s.cloud.size(); i < cloud.size(); ++i) EXPECT_TRUE(cloud.flag("excluded", i)) << "flying point " << i;
   EXPECT_NEAR(rate, reference_rate, 0.05);
 }
@@ -188,7 +224,7 @@ TEST(Smoothing, IsolatedOutliersAreExcludedAndLeftWhereTheyAre) {
     const std::size_t i = first + k;
     EXPECT_TRUE(s.cloud.flag("excluded", i)) << "outlier " << k;
     EXPECT_EQ(s.cloud.attributes.get("cardinality").values[i], 1.0);
-    EXPECT_LT(s.cloud.attributes.get("cardinality").values[i], summary.cardinality_threshold);
+    EXPECT_LT(s.cloud.attributes.get("cardinality").values[i], summary.preselection.cardinality_threshold);
     EXPECT_EQ(s.cloud.positions[i], outliers[k]) << "a window of one point must not move it";
     EXPECT_EQ(s.cloud.attributes.get("displacement").values[i], 0.0);
   }
@@ -317,9 +353,9 @@ TEST(Smoothing, PreselectionUsesTheStatisticsOfTheFirstPass) {
   const SmoothingSummary three = smoothPointCloud(thrice, params);
   EXPECT_EQ(three.passes, 3);
   EXPECT_EQ(one.radius_m, three.radius_m);
-  EXPECT_EQ(one.mean_cardinality, three.mean_cardinality);
-  EXPECT_EQ(one.mean_flatness, three.mean_flatness);
-  EXPECT_EQ(one.excluded, three.excluded);
+  EXPECT_EQ(one.preselection.mean_cardinality, three.preselection.mean_cardinality);
+  EXPECT_EQ(one.preselection.mean_flatness, three.preselection.mean_flatness);
+  EXPECT_EQ(one.preselection.excluded, three.preselection.excluded);
   EXPECT_TRUE(once.attributes.get("cardinality").values == thrice.attributes.get("cardinality").values);
   EXPECT_TRUE(once.attributes.get("excluded").values == thrice.attributes.get("excluded").values);
   // ...but the positions moved further, and the displacement is the total.
@@ -330,53 +366,56 @@ TEST(Smoothing, PreselectionUsesTheStatisticsOfTheFirstPass) {
 }
 
 TEST(Smoothing, SummaryCountsAndThresholdsAgreeWithTheAttributes) {
+  // With the paper's rule the thresholds are the means.
   const SyntheticCloud s = test::makeCylinder(0.02, 0.06, kSpacing, kSigma, 41);
   PointCloud cloud = s.cloud;
-  const SmoothingSummary summary = smoothPointCloud(cloud);
+  SmoothingParameters params;
+  params.preselection.rule = PreselectionRule::PaperMean;
+  const SmoothingSummary summary = smoothPointCloud(cloud, params);
   const auto& card = cloud.attributes.get("cardinality").values;
   const auto& flat = cloud.attributes.get("flatness").values;
   double card_sum = 0;
   std::size_t excluded = 0, by_card = 0, by_flat = 0, both = 0;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     card_sum += card[i];
-    const bool c = card[i] < summary.cardinality_threshold;
-    const bool f = flat[i] < summary.flatness_threshold;
+    const bool c = card[i] < summary.preselection.cardinality_threshold;
+    const bool f = flat[i] < summary.preselection.flatness_threshold;
     excluded += cloud.flag("excluded", i);
     by_card += c && !f;
     by_flat += f && !c;
     both += c && f;
   }
   EXPECT_EQ(summary.points, cloud.size());
-  EXPECT_DOUBLE_EQ(summary.mean_cardinality, card_sum / static_cast<double>(cloud.size()));
-  EXPECT_EQ(summary.cardinality_threshold, summary.mean_cardinality);
-  EXPECT_EQ(summary.flatness_threshold, summary.mean_flatness);
-  EXPECT_EQ(summary.excluded, excluded);
-  EXPECT_EQ(summary.excluded_cardinality_only, by_card);
-  EXPECT_EQ(summary.excluded_flatness_only, by_flat);
-  EXPECT_EQ(summary.excluded_both, both);
-  EXPECT_EQ(summary.excluded, summary.excluded_cardinality_only + summary.excluded_flatness_only + summary.excluded_both);
+  EXPECT_DOUBLE_EQ(summary.preselection.mean_cardinality, card_sum / static_cast<double>(cloud.size()));
+  EXPECT_EQ(summary.preselection.cardinality_threshold, summary.preselection.mean_cardinality);
+  EXPECT_EQ(summary.preselection.flatness_threshold, summary.preselection.mean_flatness);
+  EXPECT_EQ(summary.preselection.excluded, excluded);
+  EXPECT_EQ(summary.preselection.excluded_cardinality_only, by_card);
+  EXPECT_EQ(summary.preselection.excluded_flatness_only, by_flat);
+  EXPECT_EQ(summary.preselection.excluded_both, both);
+  EXPECT_EQ(summary.preselection.excluded, summary.preselection.excluded_cardinality_only + summary.preselection.excluded_flatness_only + summary.preselection.excluded_both);
 }
 
 TEST(Smoothing, ExplicitThresholdsAndDisabledPreselection) {
   const SyntheticCloud s = test::makePlane(50, kSpacing, kSigma, 51);
   PointCloud cloud = s.cloud;
   SmoothingParameters params;
-  params.cardinality_threshold = 0.0;
-  params.flatness_threshold = 0.0;
+  params.preselection.cardinality_threshold = 0.0;
+  params.preselection.flatness_threshold = 0.0;
   const SmoothingSummary keep_all = smoothPointCloud(cloud, params);
-  EXPECT_EQ(keep_all.excluded, 0u);
-  EXPECT_EQ(keep_all.cardinality_threshold, 0.0);
+  EXPECT_EQ(keep_all.preselection.excluded, 0u);
+  EXPECT_EQ(keep_all.preselection.cardinality_threshold, 0.0);
 
   cloud = s.cloud;
-  params.cardinality_threshold = 1e9;
+  params.preselection.cardinality_threshold = 1e9;
   const SmoothingSummary drop_all = smoothPointCloud(cloud, params);
-  EXPECT_EQ(drop_all.excluded, cloud.size());
+  EXPECT_EQ(drop_all.preselection.excluded, cloud.size());
 
   cloud = s.cloud;
   params = {};
-  params.preselect = false;
+  params.preselection.rule = PreselectionRule::None;
   const SmoothingSummary none = smoothPointCloud(cloud, params);
-  EXPECT_EQ(none.excluded, 0u);
+  EXPECT_EQ(none.preselection.excluded, 0u);
   EXPECT_FALSE(cloud.attributes.has("excluded"));
   EXPECT_TRUE(cloud.attributes.has("cardinality"));
   EXPECT_TRUE(cloud.attributes.has("flatness"));
@@ -497,12 +536,12 @@ TEST(SmoothingTable, DISABLED_BoxExclusionRates) {
         const int face = s.edge_distance[i] > summary.radius_m;
         n[face] += 1;
         ex[face] += cloud.flag("excluded", i);
-        by_c[face] += card[i] < summary.cardinality_threshold;
-        by_f[face] += flat[i] < summary.flatness_threshold;
+        by_c[face] += card[i] < summary.preselection.cardinality_threshold;
+        by_f[face] += flat[i] < summary.preselection.flatness_threshold;
       }
       std::printf("| %.2f | %.0fx | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f | %.2f |\n", sigma_mm,
                   factor, 100 * ex[0] / n[0], 100 * by_c[0] / n[0], 100 * by_f[0] / n[0], 100 * ex[1] / n[1],
-                  100 * by_c[1] / n[1], 100 * by_f[1] / n[1], summary.cardinality_threshold, summary.flatness_threshold);
+                  100 * by_c[1] / n[1], 100 * by_f[1] / n[1], summary.preselection.cardinality_threshold, summary.preselection.flatness_threshold);
       std::fflush(stdout);
     }
   }

@@ -4,6 +4,7 @@
 
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/ndt/preselection.hpp>
 #include <icrkit/ndt/smoothing.hpp>
 
 #include <Eigen/Geometry>
@@ -168,7 +169,7 @@ TEST(SmoothingRealData, BunnyScanWithAddedNoiseMovesCloserToTheReferenceMesh) {
   std::printf("[ bun000 ] %zu points, spacing %.3f mm, r = %.3f mm, excluded %.1f %%; mean distance to bun_zipper "
               "surface: scan %.4f, noisy %.4f, smoothed %.4f mm (to the nearest vertex: noisy %.4f, smoothed %.4f mm)\n",
               summary.points, summary.median_spacing_m * 1e3, summary.radius_m * 1e3,
-              100.0 * static_cast<double>(summary.excluded) / static_cast<double>(summary.points), raw * 1e3, before * 1e3,
+              100.0 * static_cast<double>(summary.preselection.excluded) / static_cast<double>(summary.points), raw * 1e3, before * 1e3,
               after * 1e3, before_vertex * 1e3, after_vertex * 1e3);
 
   // The added noise must be visible over the scan's own registration error,
@@ -180,11 +181,21 @@ TEST(SmoothingRealData, BunnyScanWithAddedNoiseMovesCloserToTheReferenceMesh) {
   EXPECT_LT(after - raw, 0.5 * (before - raw));
   // The same sanity as for the PCL views: preselection keeps a part of a
   // real scan.
-  EXPECT_LT(static_cast<double>(summary.excluded), 0.95 * static_cast<double>(summary.points))
-      << "mean flatness " << summary.mean_flatness << ", mean cardinality " << summary.mean_cardinality;
+  EXPECT_LT(static_cast<double>(summary.preselection.excluded), 0.95 * static_cast<double>(summary.points))
+      << "mean flatness " << summary.preselection.mean_flatness << ", mean cardinality " << summary.preselection.mean_cardinality;
 }
 
-void checkPclView(const std::string& file, double max_excluded = 0.95) {
+// The share of `cloud`'s points that `rule` excludes, from the attributes
+// the smoothing wrote (as `icrkit evaluate --preselection` recomputes them).
+double excludedShare(const PointCloud& cloud, PreselectionRule rule) {
+  PreselectionParameters params;
+  params.rule = rule;
+  const Preselection p = preselect(cloud.attributes.get("cardinality").values, cloud.attributes.get("flatness").values,
+                                   params);
+  return static_cast<double>(p.summary.excluded) / static_cast<double>(cloud.size());
+}
+
+void checkPclView(const std::string& file) {
   const std::string path = sharedData("pcl-views/" + file);
   REQUIRE_SHARED_FILE(path);
   PointCloud cloud = io::readPointCloud(path);
@@ -192,7 +203,7 @@ void checkPclView(const std::string& file, double max_excluded = 0.95) {
   SmoothingParameters params;
   params.viewpoint = Eigen::Vector3d::Zero();  // both files: VIEWPOINT 0 0 0, the camera at the origin
   const SmoothingSummary summary = smoothPointCloud(cloud, params);
-  const double excluded = static_cast<double>(summary.excluded) / static_cast<double>(summary.points);
+  const double excluded = static_cast<double>(summary.preselection.excluded) / static_cast<double>(summary.points);
   std::size_t towards = 0, unit = 0;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (std::abs(cloud.normals[i].norm() - 1.0) < 1e-9) ++unit;
@@ -202,12 +213,18 @@ void checkPclView(const std::string& file, double max_excluded = 0.95) {
               "excluded %.1f %% (cardinality only %zu, flatness only %zu, both %zu), small windows %zu, "
               "mean displacement %.3f mm, %.0f ms\n",
               file.c_str(), summary.points, summary.median_spacing_m * 1e3, summary.radius_m * 1e3,
-              summary.mean_cardinality, summary.mean_flatness, 100 * excluded, summary.excluded_cardinality_only,
-              summary.excluded_flatness_only, summary.excluded_both, summary.small_windows,
+              summary.preselection.mean_cardinality, summary.preselection.mean_flatness, 100 * excluded, summary.preselection.excluded_cardinality_only,
+              summary.preselection.excluded_flatness_only, summary.preselection.excluded_both, summary.small_windows,
               summary.mean_displacement_m * 1e3, summary.time_ms);
-  EXPECT_GT(excluded, 0.05);
-  EXPECT_LT(excluded, max_excluded);
-  EXPECT_GT(summary.mean_cardinality, 3.0);
+  const double paper = excludedShare(cloud, PreselectionRule::PaperMean);
+  std::printf("[ %s ] preselection: default excludes %.1f %%, paper-mean %.1f %%\n", file.c_str(), 100 * excluded,
+              100 * paper);
+  // Issue 18's bound for the default rule on real single views; it still
+  // finds something to exclude (flying points, depth edges).
+  EXPECT_GT(excluded, 0.0);
+  EXPECT_LE(excluded, 0.20);
+  EXPECT_GT(paper, excluded) << "the paper's literal rule excludes more than the default";
+  EXPECT_GT(summary.preselection.mean_cardinality, 3.0);
   EXPECT_GT(summary.radius_m, 0.0);
   EXPECT_LT(summary.mean_displacement_m, summary.radius_m) << "a projection onto the window plane moves less than r";
   EXPECT_EQ(unit + summary.small_windows, cloud.size()) << "every smoothed point has a unit normal";
@@ -217,11 +234,30 @@ void checkPclView(const std::string& file, double max_excluded = 0.95) {
 TEST(SmoothingRealData, PclMilkCartonView) { checkPclView("milk.pcd"); }
 
 // A whole stereo scene: a large, flat table with quantised depth next to
-// sparse far points. Its flatness is heavy-tailed (mean 18 while most points
-// are below 5), so the paper's mean thresholds keep only a few dozen points;
-// scenes want explicit thresholds (docs/smoothing.md). The check here is that
-// the run is sane, not that the rule suits a scene.
-TEST(SmoothingRealData, PclTableSceneStereoView) { checkPclView("table_scene_mug_stereo_textured.pcd", 1.0); }
+// sparse far points. Its flatness is heavy-tailed and two-moded (near table
+// F ~ 10, far background F ~ 2.4, whose stereo noise grows with range): the
+// paper's mean thresholds keep only a few dozen points, the default's
+// median and spread of ln F keep most of both.
+TEST(SmoothingRealData, PclTableSceneStereoView) { checkPclView("table_scene_mug_stereo_textured.pcd"); }
+
+// The Stanford laser scan as it is: clean, curved surface. The paper's rule
+// excludes three quarters of it (two "below the mean" tests), the default
+// a few per cent (its curved rims and depth edges).
+TEST(SmoothingRealData, PreselectionRulesOnTheBunnyLaserScan) {
+  const std::string path = sharedData("stanford-bunny/bun000.ply");
+  REQUIRE_SHARED_FILE(path);
+  PointCloud cloud = io::readPointCloud(path);
+  const SmoothingSummary summary = smoothPointCloud(cloud);
+  const double excluded = static_cast<double>(summary.preselection.excluded) / static_cast<double>(summary.points);
+  const double paper = excludedShare(cloud, PreselectionRule::PaperMean);
+  std::printf("[ bun000 as scanned ] %zu points, default excludes %.1f %% (F < %.2f or |W| < %.1f), paper-mean %.1f %%\n",
+              summary.points, 100 * excluded, summary.preselection.flatness_threshold,
+              summary.preselection.cardinality_threshold, 100 * paper);
+  EXPECT_EQ(summary.preselection.rule, PreselectionRule::Robust);
+  EXPECT_GT(excluded, 0.0);
+  EXPECT_LE(excluded, 0.20);
+  EXPECT_GE(paper, 0.5);
+}
 
 }  // namespace
 }  // namespace icrkit::ndt

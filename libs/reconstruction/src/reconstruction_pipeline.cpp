@@ -1,4 +1,5 @@
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+#include <icrkit/reconstruction/raw_and_filtered_meshes.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
@@ -73,13 +74,6 @@ PointCloud objectPointsInSensorFrame(const RangeScan& scan, const std::vector<st
   for (std::size_t k = 0; k < scan.points.size(); ++k)
     if (object[k]) cloud.positions.push_back(to_sensor * scan.points[k]);
   return cloud;
-}
-
-// Turns each normal towards its own sensor.
-void orientTowardsViewpoints(PointCloud& cloud, const std::vector<Eigen::Vector3d>& viewpoints) {
-  if (viewpoints.size() != cloud.positions.size() || cloud.normals.size() != cloud.positions.size()) return;
-  for (std::size_t i = 0; i < cloud.positions.size(); ++i)
-    if (cloud.normals[i].dot(viewpoints[i] - cloud.positions[i]) < 0) cloud.normals[i] = -cloud.normals[i];
 }
 
 // Scan i of a pass over the recording, filtered (see filterScan), with the
@@ -281,33 +275,24 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     times.normals_ms = msSince(start);
   }
   if (params.make_meshes) {
-    auto start = Clock::now();
-    report(progress, "raw mesh", 0, 1);
-    BallPivotingParameters raw_meshing = params.meshing;
-    if (!params.thin_raw_cloud) raw_meshing.thinning_factor = 0.0;
-    BallPivotingResult raw = ballPivoting(result.cloud, raw_meshing);
-    result.raw_mesh = std::move(raw.mesh);
-    result.raw_meshing = raw.report;
-    times.raw_mesh_ms = msSince(start);
-
-    start = Clock::now();
-    PointCloud smoothed = result.cloud;
-    ndt::SmoothingParameters smoothing = params.smoothing;
-    if (!(smoothing.radius > 0) && result.scan_spacing_m > 0)
-      smoothing.radius = smoothing.radius_factor * result.scan_spacing_m;
-    result.smoothing = ndt::smoothPointCloud(smoothed, smoothing, [&](const std::string&, std::size_t d, std::size_t t) {
-      report(progress, "smoothing", d, t);
-    });
-    // v3 normals face each point's own sensor, like the raw cloud's.
-    orientTowardsViewpoints(smoothed, viewpoints);
-    times.smoothing_ms = msSince(start);
-
-    start = Clock::now();
-    report(progress, "filtered mesh", 0, 1);
-    BallPivotingResult filtered = ballPivoting(smoothed, params.meshing);
-    result.filtered_mesh = std::move(filtered.mesh);
-    result.filtered_meshing = filtered.report;
-    times.filtered_mesh_ms = msSince(start);
+    RawAndFilteredParameters meshing;
+    meshing.smoothing = params.smoothing;
+    // The smoothing window, like the normals', is a multiple of one scan's
+    // spacing (see ReconstructionParameters::smoothing).
+    meshing.reference_spacing = result.scan_spacing_m;
+    meshing.meshing = params.meshing;
+    meshing.thin_raw_cloud = params.thin_raw_cloud;
+    meshing.mesh_kept_points_only = params.mesh_kept_points_only;
+    RawAndFilteredMeshes meshes = meshRawAndFiltered(result.cloud, meshing, viewpoints, progress);
+    result.raw_mesh = std::move(meshes.raw);
+    result.raw_meshing = meshes.raw_meshing;
+    result.filtered_mesh = std::move(meshes.filtered);
+    result.filtered_meshing = meshes.filtered_meshing;
+    result.smoothing = meshes.smoothing;
+    result.dropped_excluded = meshes.dropped_excluded;
+    times.raw_mesh_ms = meshes.times.raw_mesh_ms;
+    times.smoothing_ms = meshes.times.smoothing_ms;
+    times.filtered_mesh_ms = meshes.times.filtered_mesh_ms;
   }
   times.total_ms = msSince(total_start);
   return result;

@@ -10,12 +10,13 @@
 /// taken from the input positions of the pass (Jacobi style), so the result
 /// does not depend on point order or thread count.
 ///
-/// Preselection: cardinality |W_s| and flatness F = sqrt(l2 / l3); a point is
-/// excluded when its cardinality or its flatness is below the threshold (by
-/// default the mean over all points).
+/// Preselection (preselection.hpp): from the cardinality |W_s| and the
+/// flatness F = sqrt(l2 / l3) of the first pass's windows, by the rule of
+/// `SmoothingParameters::preselection` (default: the robust rule).
 
 #include <icrkit/core/point_cloud.hpp>
 #include <icrkit/core/progress.hpp>
+#include <icrkit/ndt/preselection.hpp>
 
 #include <Eigen/Core>
 
@@ -32,10 +33,8 @@ struct SmoothingParameters {
   /// k passes; each recomputes the windows from the previous pass's output.
   /// Preselection uses the statistics of the first pass (the measured data).
   int passes = 1;
-  bool preselect = true;
-  /// Explicit thresholds; unset = the mean over all points.
-  std::optional<double> cardinality_threshold;
-  std::optional<double> flatness_threshold;
+  /// Rule none: no `excluded` attribute is written.
+  PreselectionParameters preselection;
   /// Normals (v3) point towards this sensor position when given, else
   /// outwards from the centroid, made consistent over the neighbour graph.
   std::optional<Eigen::Vector3d> viewpoint;
@@ -53,14 +52,9 @@ struct SmoothingSummary {
   double median_spacing_m = 0.0;  ///< 0 when the radius was given in metres (not measured)
   int passes = 0;
   std::size_t small_windows = 0;  ///< windows with fewer than 3 points: left unchanged
-  double mean_cardinality = 0.0;
-  double mean_flatness = 0.0;
-  double cardinality_threshold = 0.0;
-  double flatness_threshold = 0.0;
-  std::size_t excluded = 0;
-  std::size_t excluded_cardinality_only = 0;
-  std::size_t excluded_flatness_only = 0;
-  std::size_t excluded_both = 0;
+  /// Statistics of the first pass's windows and what the rule made of them
+  /// (means and medians also with rule none).
+  PreselectionSummary preselection;
   double mean_displacement_m = 0.0;
   double max_displacement_m = 0.0;
   double time_ms = 0.0;
@@ -68,7 +62,7 @@ struct SmoothingSummary {
 
 /// Smooths `cloud` in place and adds the per-point attributes `cardinality`
 /// (int), `flatness` (float), `displacement` (float, metres, total over the
-/// passes), `excluded` (uchar, when preselecting) and replaces the normals
+/// passes), `excluded` (uchar, unless the rule is none) and replaces the normals
 /// by the v3 estimates of the last pass (a point whose window holds fewer
 /// than 3 points keeps its input normal, or gets none when the cloud had none). Throws InputError for an empty
 /// cloud, a non-finite coordinate (naming the point), r <= 0 or passes < 1.

@@ -109,6 +109,9 @@ struct ReconstructionParameters {
   /// false keeps its noise layer unthinned (`meshing.thinning_factor`
   /// applies to the smoothed cloud only); its holes are then many.
   bool thin_raw_cloud = false;
+  /// Drop the preselection's excluded points before ball pivoting the
+  /// smoothed cloud (RawAndFilteredParameters::mesh_kept_points_only).
+  bool mesh_kept_points_only = false;
   /// false: stop after the fused cloud (no meshes).
   bool make_meshes = true;
   /// Keep each scan's object points (sensor frame) as handed to the
@@ -183,6 +186,7 @@ struct ReconstructionResult {
   TriangleMesh filtered_mesh;
   ndt::SmoothingSummary smoothing;
   BallPivotingReport filtered_meshing;
+  std::size_t dropped_excluded = 0;  ///< with mesh_kept_points_only
   ReconstructionTimes times;
 };
 

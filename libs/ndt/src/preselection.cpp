@@ -1,0 +1,160 @@
+#include <icrkit/core/error.hpp>
+#include <icrkit/ndt/preselection.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace icrkit::ndt {
+
+const char* preselectionRuleName(PreselectionRule rule) {
+  switch (rule) {
+    case PreselectionRule::Robust: return "default";
+    case PreselectionRule::PaperMean: return "paper-mean";
+    case PreselectionRule::None: return "none";
+  }
+  return "default";
+}
+
+PreselectionRule parsePreselectionRule(const std::string& name, const std::string& option) {
+  if (name == "default" || name == "robust") return PreselectionRule::Robust;
+  if (name == "paper-mean" || name == "paper") return PreselectionRule::PaperMean;
+  if (name == "none") return PreselectionRule::None;
+  throw InputError(option, "", "unknown preselection rule '" + name + "', expected default, paper-mean or none");
+}
+
+std::vector<PreselectionRule> allPreselectionRules() {
+  return {PreselectionRule::Robust, PreselectionRule::PaperMean, PreselectionRule::None};
+}
+
+namespace {
+
+// Median by selection (mean of the two middle values for an even count);
+// sorts a copy, so the result does not depend on the input order.
+double medianOf(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const std::size_t mid = values.size() / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
+  const double upper = values[mid];
+  if (values.size() % 2 == 1) return upper;
+  const double lower = *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid));
+  return 0.5 * (lower + upper);
+}
+
+// 1.4826 x the median absolute deviation: the standard deviation of a
+// normal distribution, unmoved by the tails (edges, flying points).
+double robustSpread(const std::vector<double>& values, double median) {
+  std::vector<double> deviation(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) deviation[i] = std::abs(values[i] - median);
+  return 1.4826 * medianOf(std::move(deviation));
+}
+
+void validate(const std::vector<double>& cardinality, const std::vector<double>& flatness,
+              const PreselectionParameters& p) {
+  if (cardinality.size() != flatness.size())
+    throw InputError("preselection", "", "cardinality and flatness must have one value per point, got " +
+                                             std::to_string(cardinality.size()) + " and " +
+                                             std::to_string(flatness.size()));
+  for (std::size_t i = 0; i < cardinality.size(); ++i)
+    if (!(std::isfinite(cardinality[i]) && cardinality[i] >= 0 && std::isfinite(flatness[i]) && flatness[i] >= 0))
+      throw InputError("preselection", "point " + std::to_string(i),
+                       "expected a finite cardinality and flatness >= 0, got " + std::to_string(cardinality[i]) +
+                           " and " + std::to_string(flatness[i]));
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  if (!(positive(p.robust_k) && positive(p.min_log_flatness_spread) && positive(p.always_flat) &&
+        std::isfinite(p.min_cardinality) && p.min_cardinality >= 0 && p.boundary_fraction >= 0 &&
+        p.boundary_fraction <= 1))
+    throw InputError("preselection", "", "the default rule's parameters must be positive (boundary fraction in [0, 1])");
+  for (const auto& t : {p.cardinality_threshold, p.flatness_threshold})
+    if (t && !(std::isfinite(*t) && *t >= 0))
+      throw InputError("preselection", "", "an explicit threshold must be finite and >= 0, got " + std::to_string(*t));
+}
+
+}  // namespace
+
+Preselection preselect(const std::vector<double>& cardinality, const std::vector<double>& flatness,
+                       const PreselectionParameters& params) {
+  validate(cardinality, flatness, params);
+  Preselection out;
+  PreselectionSummary& s = out.summary;
+  const std::size_t n = cardinality.size();
+  s.rule = params.rule;
+  s.points = n;
+  out.excluded.assign(n, 0);
+  if (n == 0) return out;
+
+  double cardinality_sum = 0, flatness_sum = 0;
+  std::vector<double> log_flatness;
+  log_flatness.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    cardinality_sum += cardinality[i];
+    flatness_sum += flatness[i];
+    if (flatness[i] > 0) log_flatness.push_back(std::log(flatness[i]));
+  }
+  s.mean_cardinality = cardinality_sum / static_cast<double>(n);
+  s.mean_flatness = flatness_sum / static_cast<double>(n);
+  s.median_cardinality = medianOf(cardinality);
+  const double log_median = medianOf(log_flatness);
+  s.median_flatness = log_flatness.empty() ? 0.0 : std::exp(log_median);
+  s.log_flatness_spread = robustSpread(log_flatness, log_median);
+  if (params.rule == PreselectionRule::None) return out;
+
+  if (params.rule == PreselectionRule::PaperMean) {
+    s.cardinality_threshold = s.mean_cardinality;
+    s.flatness_threshold = s.mean_flatness;
+  } else {
+    const double k = params.robust_k;
+    const double spread = std::max(s.log_flatness_spread, params.min_log_flatness_spread);
+    s.flatness_threshold = log_flatness.empty() ? params.always_flat
+                                                : std::min(params.always_flat, std::exp(log_median - k * spread));
+    const double cardinality_spread = robustSpread(cardinality, s.median_cardinality);
+    s.cardinality_threshold =
+        std::max(params.min_cardinality, std::min(params.boundary_fraction * s.median_cardinality,
+                                                  s.median_cardinality - k * cardinality_spread));
+  }
+  if (params.cardinality_threshold) s.cardinality_threshold = *params.cardinality_threshold;
+  if (params.flatness_threshold) s.flatness_threshold = *params.flatness_threshold;
+
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool sparse = cardinality[i] < s.cardinality_threshold;
+    // A window of flatness 0 is a line or a point: never a surface to trust.
+    const bool rough = flatness[i] < s.flatness_threshold || flatness[i] == 0.0;
+    out.excluded[i] = (sparse || rough) ? 1 : 0;
+    if (sparse && rough)
+      ++s.excluded_both;
+    else if (sparse)
+      ++s.excluded_cardinality_only;
+    else if (rough)
+      ++s.excluded_flatness_only;
+  }
+  s.excluded = s.excluded_both + s.excluded_cardinality_only + s.excluded_flatness_only;
+  return out;
+}
+
+PreselectionSummary applyPreselection(AttributeSet& attributes, std::size_t count, const PreselectionParameters& params,
+                                      const std::string& source) {
+  const auto column = [&](const char* name) -> const std::vector<double>& {
+    const Attribute* a = attributes.find(name);
+    if (!a)
+      throw InputError(source, "",
+                       std::string("no '") + name +
+                           "' attribute: preselection needs the smoothing layer's cardinality and flatness "
+                           "(a filtered cloud or mesh written by icrkit smooth or icrkit reconstruct)");
+    if (a->values.size() != count)
+      throw InputError(source, "", std::string("the '") + name + "' attribute has " +
+                                       std::to_string(a->values.size()) + " values, expected " + std::to_string(count));
+    return a->values;
+  };
+  Preselection result;
+  try {
+    result = preselect(column("cardinality"), column("flatness"), params);
+  } catch (const InputError& e) {
+    if (e.source() != "preselection") throw;
+    throw InputError(source, e.location(), e.detail());
+  }
+  std::vector<double> flags(result.excluded.begin(), result.excluded.end());
+  attributes.add("excluded", ScalarType::UInt8, std::move(flags));
+  return result.summary;
+}
+
+}  // namespace icrkit::ndt
