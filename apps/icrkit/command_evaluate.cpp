@@ -59,6 +59,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   TriangleMesh raw = readMeshWithNormals(o.raw, o.compute_normals, context);
   TriangleMesh filtered = readMeshWithNormals(o.filtered, o.compute_normals, context);
   const double read_ms = context.elapsedMs() - read_start;
+  const nlohmann::json preselection = o.experiment.applyPreselection(filtered, o.filtered);
   nlohmann::json alignment = nlohmann::json::array();
   const double align_start = context.elapsedMs();
   for (auto [mesh, path] : {std::pair<TriangleMesh*, const std::string*>{&raw, &o.raw}, {&filtered, &o.filtered}}) {
@@ -87,8 +88,10 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
                      {"config", experimentConfigJson(config)},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"align", o.experiment.align},
+                     {"preselection_rule", o.experiment.preselectionName()},
                      {"datasets",
                       {{{"name", name},
+                        {"preselection", preselection},
                         {"alignment", alignment},
                         {"cad", o.cad},
                         {"raw", o.raw},

@@ -28,7 +28,12 @@ struct PaperOptions {
   std::string datasets;  ///< empty: all nine
   int views = 0;         ///< 0: each dataset's own
   bool reuse = false;
-  ExperimentOptions experiment;
+  bool mesh_kept_points_only = false;
+  ExperimentOptions experiment = [] {
+    ExperimentOptions e;
+    e.preselection = "default";
+    return e;
+  }();
 };
 
 std::vector<sim::DatasetSpec> chosenDatasets(const PaperOptions& o) {
@@ -95,13 +100,18 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
 
     start = context.elapsedMs();
     TriangleMesh raw, filtered;
-    if (o.reuse && fs::exists(rec_dir / "filtered.ply") && fs::exists(rec_dir / "raw.ply")) {
+    const bool reused = o.reuse && fs::exists(rec_dir / "filtered.ply") && fs::exists(rec_dir / "raw.ply");
+    if (reused) {
       raw = io::readTriangleMesh((rec_dir / "raw.ply").string());
       filtered = io::readTriangleMesh((rec_dir / "filtered.ply").string());
     } else {
       context.note(prefix + "reconstructing");
+      reconstruction::ReconstructionParameters params;
+      params.mesh_kept_points_only = o.mesh_kept_points_only;
+      const std::string rule = o.experiment.preselectionName();
+      if (rule != "file") params.smoothing.preselection.rule = ndt::parsePreselectionRule(rule);
       reconstruction::ReconstructionResult result = reconstruction::reconstructRawlog(
-          (data_dir / "scans.rawlog").string(), reconstruction::ReconstructionParameters{},
+          (data_dir / "scans.rawlog").string(), params,
           staged(context.progress(), prefix));
       fs::create_directories(rec_dir, error);
       if (error) throw InputError(rec_dir.string(), "", "cannot create the directory: " + error.message());
@@ -113,6 +123,10 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     times["reconstruct"] = context.elapsedMs() - start;
 
     start = context.elapsedMs();
+    // A reused reconstruction is decided again by the rule asked for (from
+    // the smoothing's attributes), so one set of meshes serves every rule.
+    const nlohmann::json preselection =
+        reused ? o.experiment.applyPreselection(filtered, (rec_dir / "filtered.ply").string()) : nlohmann::json();
     const TriangleMesh cad = io::readTriangleMesh((data_dir / "object.ply").string());
     nlohmann::json alignment = nlohmann::json::array();
     for (auto [mesh, label] : {std::pair<TriangleMesh*, const char*>{&raw, "raw.ply"}, {&filtered, "filtered.ply"}}) {
@@ -141,6 +155,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment->sampledGrasps(f);
     datasets.push_back({{"name", name},
                         {"alignment", alignment},
+                        {"preselection", preselection},
                         {"cad_vertices", cad.vertexCount()},
                         {"raw_vertices", raw.vertexCount()},
                         {"filtered_vertices", filtered.vertexCount()},
@@ -157,6 +172,8 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
                      {"config", experimentConfigJson(config)},
                      {"views", o.views},
                      {"reconstruction", "icrkit reconstruct defaults"},
+                     {"preselection_rule", o.experiment.preselectionName()},
+                     {"mesh_kept_points_only", o.mesh_kept_points_only},
                      {"align", o.experiment.align},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"datasets", names}};
@@ -191,6 +208,9 @@ void addPaperCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--datasets", o->datasets, "Comma-separated dataset names (default: all nine)");
   command->add_option("--views", o->views, "Views per dataset (0: each dataset's own)")->capture_default_str();
   command->add_flag("--reuse", o->reuse, "Keep datasets and reconstructions already in DIR from an earlier run");
+  command->add_flag("--mesh-kept-points-only", o->mesh_kept_points_only,
+                    "Reconstruct the filtered meshes without their excluded points (with --reuse: only for "
+                    "datasets reconstructed in this run)");
   o->experiment.addTo(*command);
   command->add_option("-o,--output", o->output, "Output folder")->required();
   command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(paper(*o, context)); }; });

@@ -2,6 +2,7 @@
 
 #include "argument_parsing.hpp"
 #include "contact_model_options.hpp"
+#include "preselection_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/eval/grasp_regions.hpp>
@@ -37,8 +38,14 @@ void ExperimentOptions::addTo(CLI::App& command) {
   command.add_option("--neighbourhood-radius", neighbourhood_radius,
                      "Candidate vertices around a crossing, metres (0: twice the target's median edge)")
       ->capture_default_str();
-  command.add_flag("--no-preselection", no_preselection,
-                   "Ignore the filtered mesh's `excluded` flags (smoothing alone; a diagnostic, not the paper's method)");
+  command
+      .add_option("--preselection", preselection,
+                  "Preselection of the filtered mesh: file (its own `excluded` flags), default (the robust rule), "
+                  "paper-mean (the paper's literal rule) or none (smoothing alone); a rule is recomputed from the "
+                  "mesh's cardinality and flatness (docs/smoothing.md)")
+      ->check(CLI::IsMember({"file", "default", "robust", "paper-mean", "none"}))
+      ->capture_default_str();
+  command.add_flag("--no-preselection", no_preselection, "Same as --preselection none");
   command.add_option("--align", align,
                      "Rigid alignment of the raw and filtered meshes to the CAD surface first: none (meshes already in "
                      "the CAD frame, as simulated ones are) or icp (point-to-plane ICP; the paper aligned by hand)")
@@ -94,7 +101,7 @@ eval::ExperimentConfig ExperimentOptions::config() const {
   if (!(neighbourhood_radius >= 0.0) || !std::isfinite(neighbourhood_radius))
     throw InputError("--neighbourhood-radius", "", "expected metres >= 0 (0: automatic)");
   config.mapping.neighbourhood_radius = neighbourhood_radius;
-  config.preselection = !no_preselection;
+  config.preselection = preselectionName() != "none";
   if (align != "none" && align != "icp") throw InputError("--align", "", "expected none or icp, got '" + align + "'");
   try {
     config.validate();
@@ -102,6 +109,20 @@ eval::ExperimentConfig ExperimentOptions::config() const {
     throw InputError("--mu/--edges/--fingers", "", error.detail());
   }
   return config;
+}
+
+std::string ExperimentOptions::preselectionName() const {
+  if (no_preselection) return "none";
+  if (preselection == "file") return "file";
+  return ndt::preselectionRuleName(ndt::parsePreselectionRule(preselection));
+}
+
+nlohmann::json ExperimentOptions::applyPreselection(TriangleMesh& filtered, const std::string& path) const {
+  const std::string name = preselectionName();
+  if (name == "file" || name == "none") return nullptr;
+  ndt::PreselectionParameters params;
+  params.rule = ndt::parsePreselectionRule(name);
+  return preselectionJson(ndt::applyPreselection(filtered.vertices.attributes, filtered.vertexCount(), params, path));
 }
 
 nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {

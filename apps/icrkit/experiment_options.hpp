@@ -29,7 +29,11 @@ struct ExperimentOptions {
   double max_line_distance = 0.01;
   double neighbourhood_radius = 0.0;
   std::string shard = "0/1";
-  bool no_preselection = false;
+  bool no_preselection = false;  ///< the older spelling of --preselection none
+  /// "file" (evaluate's default: the filtered mesh's own `excluded` flags),
+  /// or a rule (default, paper-mean, none) recomputed from its cardinality
+  /// and flatness attributes.
+  std::string preselection = "file";
   std::string align = "none";
   int renders = 1;
 
@@ -37,6 +41,12 @@ struct ExperimentOptions {
   /// Validated (InputError naming the option).
   eval::ExperimentConfig config() const;
   eval::Shard parsedShard() const;
+  /// The rule's name as run.json records it ("file", "default", ...).
+  std::string preselectionName() const;
+  /// Recomputes `filtered`'s `excluded` flags when a rule was chosen;
+  /// returns what it did (null for "file" and "none"). InputError naming
+  /// `path` when the mesh lacks the smoothing's attributes.
+  nlohmann::json applyPreselection(TriangleMesh& filtered, const std::string& path) const;
 };
 
 nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config);

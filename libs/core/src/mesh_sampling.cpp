@@ -11,6 +11,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace icrkit {
@@ -97,6 +98,52 @@ PointCloud samplePointsUniformly(const TriangleMesh& mesh, std::size_t count, st
       cloud.normals[i] = normal;
     }
   });
+  return cloud;
+}
+
+PointCloud samplePointsPoissonDisk(const TriangleMesh& mesh, double min_distance, std::uint64_t seed,
+                                   double oversampling) {
+  if (!(min_distance > 0.0) || !std::isfinite(min_distance))
+    throw std::invalid_argument("samplePointsPoissonDisk: the minimum distance must be positive");
+  if (!(oversampling >= 1.0)) throw std::invalid_argument("samplePointsPoissonDisk: oversampling must be >= 1");
+  mesh.validate();
+  const std::vector<double> areas = faceAreas(mesh);
+  const double total = std::accumulate(areas.begin(), areas.end(), 0.0);
+  // Densest packing: one disk of radius d/2 per sqrt(3)/2 d^2 of surface.
+  const double capacity = total / (0.8660254037844386 * min_distance * min_distance);
+  const auto candidates = static_cast<std::size_t>(std::ceil(oversampling * capacity)) + 1;
+  const PointCloud pool = samplePointsUniformly(mesh, candidates, seed);
+
+  // Cells of edge d: a point's rivals are in its own and the 26 cells around.
+  const double inv = 1.0 / min_distance;
+  const auto key = [&](const Eigen::Vector3d& p, int dx, int dy, int dz) {
+    const auto cx = static_cast<std::int64_t>(std::floor(p.x() * inv)) + dx;
+    const auto cy = static_cast<std::int64_t>(std::floor(p.y() * inv)) + dy;
+    const auto cz = static_cast<std::int64_t>(std::floor(p.z() * inv)) + dz;
+    return static_cast<std::uint64_t>((cx * 73856093) ^ (cy * 19349663) ^ (cz * 83492791));
+  };
+  std::unordered_multimap<std::uint64_t, std::size_t> grid;
+  grid.reserve(static_cast<std::size_t>(capacity) + 1);
+  const double d2 = min_distance * min_distance;
+  PointCloud cloud;
+  for (std::size_t i = 0; i < pool.size(); ++i) {
+    const Eigen::Vector3d& p = pool.positions[i];
+    bool free = true;
+    for (int dx = -1; dx <= 1 && free; ++dx)
+      for (int dy = -1; dy <= 1 && free; ++dy)
+        for (int dz = -1; dz <= 1 && free; ++dz) {
+          const auto range = grid.equal_range(key(p, dx, dy, dz));
+          for (auto it = range.first; it != range.second; ++it)
+            if ((cloud.positions[it->second] - p).squaredNorm() < d2) {
+              free = false;
+              break;
+            }
+        }
+    if (!free) continue;
+    grid.emplace(key(p, 0, 0, 0), cloud.positions.size());
+    cloud.positions.push_back(p);
+    cloud.normals.push_back(pool.normals[i]);
+  }
   return cloud;
 }
 

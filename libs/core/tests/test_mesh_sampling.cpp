@@ -1,3 +1,4 @@
+#include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
 #include <icrkit/core/mesh_sampling.hpp>
 #include <icrkit/core/ray_caster.hpp>
@@ -113,6 +114,33 @@ TEST(MeshSampling, DegenerateFacesAreNeverPicked) {
   mesh.faces.push_back(Triangle(0, 1, 0));                    // a segment
   const PointCloud cloud = samplePointsUniformly(mesh, 2000, 5);
   for (const auto& p : cloud.positions) EXPECT_LE(p.maxCoeff(), 1.0);
+}
+
+TEST(MeshSampling, PoissonDiskKeepsItsDistanceAndCoversTheSurface) {
+  // A unit cube, d = 2 cm: no pair closer than d, median spacing near d,
+  // and no point of the surface farther than 2 d from a sample.
+  const TriangleMesh cube = unitCube();
+  const double d = 0.02;
+  const PointCloud cloud = samplePointsPoissonDisk(cube, d, 5);
+  const KdTree tree(cloud.positions);
+  std::vector<double> spacing;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const auto nearest = tree.nearest(cloud.positions[i], 2);
+    spacing.push_back(nearest[1].distance);
+  }
+  std::sort(spacing.begin(), spacing.end());
+  EXPECT_GE(spacing.front(), d);
+  EXPECT_LE(spacing[spacing.size() / 2], 1.3 * d);
+  // Area 6 m^2: a dense packing holds 6 / (0.866 d^2) = 17,300 disks.
+  EXPECT_GT(cloud.size(), 8000u);
+  EXPECT_LT(cloud.size(), 17321u);
+  const PointCloud probes = samplePointsUniformly(cube, 2000, 99);
+  for (const Eigen::Vector3d& p : probes.positions) EXPECT_LT(tree.nearest(p, 1)[0].distance, 2 * d);
+  for (const Eigen::Vector3d& n : cloud.normals) EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+  // Serial elimination over a seeded pool: the same points every run.
+  const PointCloud again = samplePointsPoissonDisk(cube, d, 5);
+  EXPECT_EQ(again.positions, cloud.positions);
+  EXPECT_THROW(samplePointsPoissonDisk(cube, 0.0), std::invalid_argument);
 }
 
 TEST(MeshSampling, Errors) {

@@ -29,24 +29,23 @@ std::vector<PreselectionRule> allPreselectionRules() {
 
 namespace {
 
-// Median by selection (mean of the two middle values for an even count);
-// sorts a copy, so the result does not depend on the input order.
-double medianOf(std::vector<double> values) {
+// The value at which the running weight (in value order, ties by index)
+// first reaches half the total.
+double weightedMedianOf(const std::vector<double>& values, const std::vector<double>& weights) {
   if (values.empty()) return 0.0;
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
-  const double upper = values[mid];
-  if (values.size() % 2 == 1) return upper;
-  const double lower = *std::max_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid));
-  return 0.5 * (lower + upper);
-}
-
-// 1.4826 x the median absolute deviation: the standard deviation of a
-// normal distribution, unmoved by the tails (edges, flying points).
-double robustSpread(const std::vector<double>& values, double median) {
-  std::vector<double> deviation(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) deviation[i] = std::abs(values[i] - median);
-  return 1.4826 * medianOf(std::move(deviation));
+  std::vector<std::size_t> order(values.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return values[a] < values[b] || (values[a] == values[b] && a < b);
+  });
+  double total = 0;
+  for (const double w : weights) total += w;
+  double running = 0;
+  for (const std::size_t i : order) {
+    running += weights[i];
+    if (running >= 0.5 * total) return values[i];
+  }
+  return values[order.back()];
 }
 
 void validate(const std::vector<double>& cardinality, const std::vector<double>& flatness,
@@ -84,19 +83,34 @@ Preselection preselect(const std::vector<double>& cardinality, const std::vector
   if (n == 0) return out;
 
   double cardinality_sum = 0, flatness_sum = 0;
-  std::vector<double> log_flatness;
+  // Flatness statistics per unit of surface, not per sample: a point stands
+  // for about 1 / |W_s| of its window's area. A fused recording is many
+  // times denser where many views overlap (and the noise is averaged)
+  // than where few saw it, and per sample its dense parts would set the
+  // noise level that its sparse, noisier parts are then measured against
+  // (on the real bunny: 2 % of the points excluded, but 9.5 % of the
+  // vertices grasps land on).
+  std::vector<double> log_flatness, weight;
   log_flatness.reserve(n);
+  weight.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     cardinality_sum += cardinality[i];
     flatness_sum += flatness[i];
-    if (flatness[i] > 0) log_flatness.push_back(std::log(flatness[i]));
+    if (flatness[i] > 0) {
+      log_flatness.push_back(std::log(flatness[i]));
+      weight.push_back(1.0 / std::max(cardinality[i], 1.0));
+    }
   }
   s.mean_cardinality = cardinality_sum / static_cast<double>(n);
   s.mean_flatness = flatness_sum / static_cast<double>(n);
-  s.median_cardinality = medianOf(cardinality);
-  const double log_median = medianOf(log_flatness);
+  std::vector<double> area_weight(n);
+  for (std::size_t i = 0; i < n; ++i) area_weight[i] = 1.0 / std::max(cardinality[i], 1.0);
+  s.median_cardinality = weightedMedianOf(cardinality, area_weight);
+  const double log_median = weightedMedianOf(log_flatness, weight);
   s.median_flatness = log_flatness.empty() ? 0.0 : std::exp(log_median);
-  s.log_flatness_spread = robustSpread(log_flatness, log_median);
+  std::vector<double> deviation(log_flatness.size());
+  for (std::size_t i = 0; i < deviation.size(); ++i) deviation[i] = std::abs(log_flatness[i] - log_median);
+  s.log_flatness_spread = 1.4826 * weightedMedianOf(deviation, weight);
   if (params.rule == PreselectionRule::None) return out;
 
   if (params.rule == PreselectionRule::PaperMean) {
@@ -107,7 +121,9 @@ Preselection preselect(const std::vector<double>& cardinality, const std::vector
     const double spread = std::max(s.log_flatness_spread, params.min_log_flatness_spread);
     s.flatness_threshold = log_flatness.empty() ? params.always_flat
                                                 : std::min(params.always_flat, std::exp(log_median - k * spread));
-    const double cardinality_spread = robustSpread(cardinality, s.median_cardinality);
+    std::vector<double> deviation(n);
+    for (std::size_t i = 0; i < n; ++i) deviation[i] = std::abs(cardinality[i] - s.median_cardinality);
+    const double cardinality_spread = 1.4826 * weightedMedianOf(deviation, area_weight);
     s.cardinality_threshold =
         std::max(params.min_cardinality, std::min(params.boundary_fraction * s.median_cardinality,
                                                   s.median_cardinality - k * cardinality_spread));

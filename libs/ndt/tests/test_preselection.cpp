@@ -20,6 +20,12 @@ namespace {
 
 constexpr double kSpacing = 0.001;
 
+PreselectionParameters withRule(PreselectionRule rule) {
+  PreselectionParameters params;
+  params.rule = rule;
+  return params;
+}
+
 PointCloud smoothedWith(PointCloud cloud, PreselectionRule rule) {
   SmoothingParameters params;
   params.preselection.rule = rule;
@@ -116,16 +122,20 @@ TEST(Preselection, NoiseThatDoublesHalfwayIsNotAnEdge) {
 }
 
 TEST(Preselection, RuleNoneExcludesNothingButStillReportsTheStatistics) {
-  const Preselection p = preselect({10, 20, 30, 1}, {5, 4, 3, 0}, PreselectionParameters{PreselectionRule::None});
+  const Preselection p = preselect({10, 20, 30, 1}, {5, 4, 3, 0}, withRule(PreselectionRule::None));
   EXPECT_EQ(p.summary.excluded, 0u);
   EXPECT_EQ(p.excluded, (std::vector<std::uint8_t>{0, 0, 0, 0}));
   EXPECT_DOUBLE_EQ(p.summary.mean_cardinality, 15.25);
-  EXPECT_DOUBLE_EQ(p.summary.median_cardinality, 15.0);
-  EXPECT_NEAR(p.summary.median_flatness, 4.0, 1e-12);  // F = 0 left out of the statistics
+  // Per unit of surface: the isolated point (|W| = 1) stands for more area
+  // than the other three together.
+  EXPECT_DOUBLE_EQ(p.summary.median_cardinality, 1.0);
+  // F = 0 is left out of the statistics; the others weigh 1 / |W|:
+  // 0.033, 0.05, 0.1 for F = 3, 4, 5, so half the weight is reached at 5.
+  EXPECT_NEAR(p.summary.median_flatness, 5.0, 1e-12);
 }
 
 TEST(Preselection, PaperRuleThresholdsAreTheMeans) {
-  const Preselection p = preselect({10, 20, 30, 40}, {1, 2, 2.5, 6.5}, PreselectionParameters{PreselectionRule::PaperMean});
+  const Preselection p = preselect({10, 20, 30, 40}, {1, 2, 2.5, 6.5}, withRule(PreselectionRule::PaperMean));
   EXPECT_DOUBLE_EQ(p.summary.cardinality_threshold, 25.0);
   EXPECT_DOUBLE_EQ(p.summary.flatness_threshold, 3.0);
   EXPECT_EQ(p.excluded, (std::vector<std::uint8_t>{1, 1, 1, 0}));
@@ -139,7 +149,7 @@ TEST(Preselection, DefaultRuleThresholdsFollowTheMedianAndSpread) {
   // but at least 6.
   std::vector<double> cardinality, flatness;
   for (int i = 0; i < 101; ++i) {
-    cardinality.push_back(40 + (i % 3));  // 40, 41, 42: median 41, MAD 1
+    cardinality.push_back(i < 51 ? 41 : 42);  // median 41, MAD 0.5 (the isolated point below included: 1)
     flatness.push_back(std::exp(1.0 + 0.1 * ((i % 2) ? 1 : -1)));
   }
   flatness[0] = std::exp(1.0);  // an odd count: the median itself
@@ -149,7 +159,7 @@ TEST(Preselection, DefaultRuleThresholdsFollowTheMedianAndSpread) {
   const double spread = 1.4826 * 0.1;
   EXPECT_NEAR(p.summary.log_flatness_spread, spread, 1e-9);
   EXPECT_NEAR(p.summary.flatness_threshold, std::exp(1.0 - 3 * spread), 1e-9);
-  EXPECT_DOUBLE_EQ(p.summary.cardinality_threshold, 20.5);  // median 41 / 2 < 41 - 3 x 1.48
+  EXPECT_DOUBLE_EQ(p.summary.cardinality_threshold, 20.5);  // median 41 / 2 < 41 - 3 x 1.48 x MAD
   EXPECT_EQ(p.summary.excluded, 1u);
   EXPECT_EQ(p.excluded.back(), 1);
 
@@ -157,6 +167,20 @@ TEST(Preselection, DefaultRuleThresholdsFollowTheMedianAndSpread) {
   PreselectionParameters given;
   given.flatness_threshold = 100.0;
   EXPECT_EQ(preselect(cardinality, flatness, given).summary.excluded, cardinality.size());
+}
+
+TEST(Preselection, FlatnessStatisticsArePerUnitOfSurface) {
+  // 900 points of a dense, quiet patch (|W| = 90, F = 8) and 110 of a
+  // sparse, noisier one (|W| = 10, F = 4) covering a little more surface:
+  // per sample the median would be 8 and the whole sparse patch would fall
+  // below 8 e^(-3 x 0.05); per unit of surface the sparse patch is the
+  // larger half.
+  std::vector<double> cardinality(900, 90.0), flatness(900, 8.0);
+  cardinality.insert(cardinality.end(), 110, 10.0);
+  flatness.insert(flatness.end(), 110, 4.0);
+  const Preselection p = preselect(cardinality, flatness);
+  EXPECT_EQ(p.summary.median_flatness, 4.0);
+  EXPECT_EQ(p.summary.excluded, 0u);
 }
 
 TEST(Preselection, AWindowOfFlatnessZeroIsAlwaysExcluded) {

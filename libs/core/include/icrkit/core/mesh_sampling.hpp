@@ -20,4 +20,15 @@ namespace icrkit {
 /// mesh without area (no faces, or only degenerate ones).
 PointCloud samplePointsUniformly(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed = 1);
 
+/// A Poisson-disk sample: no two points closer than `min_distance` (metres),
+/// and the surface covered so that hardly a gap of 2 x `min_distance`
+/// remains (median nearest-neighbour distance about 1.1 x `min_distance`).
+/// Dart throwing over a uniform sample `oversampling` times as dense as the
+/// result can be: candidates are taken in their (random) order and kept
+/// when no kept point is within `min_distance`. Normals as in
+/// samplePointsUniformly. The same for a seed whatever the thread count.
+/// Throws std::invalid_argument for min_distance <= 0 or a mesh without area.
+PointCloud samplePointsPoissonDisk(const TriangleMesh& mesh, double min_distance, std::uint64_t seed = 1,
+                                   double oversampling = 6.0);
+
 }  // namespace icrkit

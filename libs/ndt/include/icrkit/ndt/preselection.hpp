@@ -14,13 +14,16 @@
 ///   windows that are not flat *relative to the noise actually present*.
 ///   The noise sets the typical flatness of the cloud (F ~ r / (2 sigma) on
 ///   a plane), so the flatness test is relative to the median of ln F and
-///   its spread (MAD): F < median(F) exp(-k sigma_ln F). ln F, not F: the
+///   its spread (MAD): F < median(F) exp(-k sigma_ln F), both weighted by
+///   the surface each point stands for (1 / |W_s|: a fused recording is
+///   densest where most views overlap). ln F, not F: the
 ///   noise scales F, and a scan's range-dependent noise makes F spread over
 ///   a factor, not an offset. A window flatter than `always_flat` is never
 ///   excluded (a clean cloud has no noise to be relative to). Isolated
 ///   points: fewer than `min_cardinality` points, or fewer than both
 ///   `boundary_fraction` of the median and median - k sigma (a point at the
-///   border of a surface sees half a window: that is not isolated).
+///   border of a surface sees half a window: that is not isolated), median
+///   and spread weighted alike.
 /// - `none`: nothing is excluded.
 ///
 /// Statistics are over all points (in index order: the same bits for any
@@ -75,9 +78,9 @@ struct PreselectionSummary {
   std::size_t points = 0;
   double mean_cardinality = 0.0;
   double mean_flatness = 0.0;
-  double median_cardinality = 0.0;
-  double median_flatness = 0.0;  ///< exp(median ln F) over F > 0
-  double log_flatness_spread = 0.0;  ///< 1.4826 MAD of ln F (before the floor)
+  double median_cardinality = 0.0;  ///< weighted by 1 / |W_s|
+  double median_flatness = 0.0;  ///< exp(median ln F) over F > 0, weighted by 1 / |W_s|
+  double log_flatness_spread = 0.0;  ///< 1.4826 MAD of ln F, weighted alike (before the floor)
   /// The thresholds applied; 0 with rule none.
   double cardinality_threshold = 0.0;
   double flatness_threshold = 0.0;
