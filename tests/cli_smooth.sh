@@ -75,12 +75,14 @@ PYTHONPATH="$here" py "
 import json
 from plyfile import vertex_properties
 d = json.load(open('$work/plane.json'))
-# default radius: 4 x the median spacing (2 mm); preselection on with mean thresholds
+# default radius: 4 x the median spacing (2 mm)
 assert abs(d['median_spacing_m'] - 0.002) < 1e-4, d['median_spacing_m']
 assert abs(d['radius_m'] - 4 * d['median_spacing_m']) < 1e-12, d['radius_m']
 assert d['passes'] == 1 and d['small_windows'] == 0
-assert abs(d['thresholds']['cardinality'] - d['mean_cardinality']) < 1e-12
-assert abs(d['thresholds']['flatness'] - d['mean_flatness']) < 1e-12
+# the default rule: robust thresholds, far below the means on a clean plane
+assert d['preselection'] == 'default', d['preselection']
+assert d['thresholds']['flatness_source'] == 'robust', d['thresholds']
+assert d['thresholds']['flatness'] < d['mean_flatness'] and d['excluded']['total'] < 0.05 * d['points'], d
 before = [float(l.split()[2]) for l in open('$work/plane.xyz')]
 p = vertex_properties('$work/plane.ply')
 after = p['z'][1]
@@ -118,6 +120,18 @@ assert abs(d['radius_m'] - 2 * d['median_spacing_m']) < 1e-12, d
 " || fail "--radius 2x is not twice the median spacing"
 "$ICRKIT" smooth "$plane" -o "$work/nopre.ply" --no-preselect -q >/dev/null || fail "smooth --no-preselect failed"
 head -c 1000 "$work/nopre.ply" | grep -aq "property uchar excluded" && fail "--no-preselect still wrote 'excluded'"
+"$ICRKIT" smooth "$plane" -o "$work/none.ply" --preselection none -q >/dev/null || fail "smooth --preselection none failed"
+head -c 1000 "$work/none.ply" | grep -aq "property uchar excluded" && fail "--preselection none still wrote 'excluded'"
+"$ICRKIT" smooth "$plane" -o "$work/paper.ply" --preselection paper-mean --json -q >"$work/paper.json" ||
+  fail "smooth --preselection paper-mean failed"
+py "
+import json
+d = json.load(open('$work/paper.json'))
+assert d['preselection'] == 'paper-mean' and d['thresholds']['flatness_source'] == 'mean', d
+assert abs(d['thresholds']['cardinality'] - d['mean_cardinality']) < 1e-12
+assert abs(d['thresholds']['flatness'] - d['mean_flatness']) < 1e-12
+" || fail "--preselection paper-mean: thresholds are not the means"
+expect_exit 2 "$ICRKIT" smooth "$plane" -o "$work/x.ply" --preselection mean
 head -c 1000 "$work/nopre.ply" | grep -aq "property int cardinality" || fail "--no-preselect lost 'cardinality'"
 "$ICRKIT" smooth "$plane" -o "$work/out.pcd" -q >/dev/null || fail "smooth to .pcd failed"
 head -c 300 "$work/out.pcd" | grep -aq "^FIELDS .*cardinality flatness displacement excluded" ||

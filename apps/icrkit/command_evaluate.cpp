@@ -12,6 +12,7 @@
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/experiment_outputs.hpp>
 #include <icrkit/eval/results_tables.hpp>
+#include <icrkit/eval/sensitivity_study.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -199,6 +200,13 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
   for (const auto& f : first.at("config").at("finger_counts")) outputs.finger_counts.push_back(f);
   outputs.run_json = run.dump();
   std::vector<std::string> files = eval::writeExperimentOutputs(o.output, records, outputs).files;
+  if (first.contains("sensitivity")) {  // an `icrkit sensitivity` study: its own table from the merged records
+    const nlohmann::json& study = first.at("sensitivity");
+    const eval::SensitivityTable table = eval::computeSensitivityTable(
+        records, study.at("object").get<std::string>(), study.at("spacing_m").get<double>(),
+        study.at("noise_levels").get<std::vector<double>>(), study.at("rules").get<std::vector<std::string>>());
+    for (const std::string& f : eval::writeSensitivityOutputs(o.output, table)) files.push_back(f);
+  }
   // Each shard rendered grasps of its own block; the merged folder keeps them all.
   for (const std::string& input : o.inputs) {
     const fs::path from = fs::path(input) / "renders";

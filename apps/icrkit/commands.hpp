@@ -26,6 +26,7 @@ void addCalibrateRangeCommand(CLI::App& app, CommandRunner& runner);
 void addEvaluateCommand(CLI::App& app, CommandRunner& runner);
 void addMergeCommand(CLI::App& app, CommandRunner& runner);
 void addPaperCommand(CLI::App& app, CommandRunner& runner);
+void addSensitivityCommand(CLI::App& app, CommandRunner& runner);
 void addRenderCommand(CLI::App& app, CommandRunner& runner);
 void addReportCommand(CLI::App& app, CommandRunner& runner);
 

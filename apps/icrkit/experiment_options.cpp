@@ -16,7 +16,7 @@
 
 namespace icrkit::app {
 
-void ExperimentOptions::addTo(CLI::App& command) {
+void ExperimentOptions::addTo(CLI::App& command, bool with_preselection) {
   command.add_option("--fingers", fingers, "Finger counts of the test sets, comma-separated")->capture_default_str();
   command.add_option("--grasps", grasps, "Random CAD grasps per finger count and dataset")
       ->check(atLeast(1))
@@ -38,14 +38,15 @@ void ExperimentOptions::addTo(CLI::App& command) {
   command.add_option("--neighbourhood-radius", neighbourhood_radius,
                      "Candidate vertices around a crossing, metres (0: twice the target's median edge)")
       ->capture_default_str();
-  command
+  if (with_preselection)
+    command
       .add_option("--preselection", preselection,
                   "Preselection of the filtered mesh: file (its own `excluded` flags), default (the robust rule), "
                   "paper-mean (the paper's literal rule) or none (smoothing alone); a rule is recomputed from the "
                   "mesh's cardinality and flatness (docs/smoothing.md)")
       ->check(CLI::IsMember({"file", "default", "robust", "paper-mean", "none"}))
       ->capture_default_str();
-  command.add_flag("--no-preselection", no_preselection, "Same as --preselection none");
+  if (with_preselection) command.add_flag("--no-preselection", no_preselection, "Same as --preselection none");
   command.add_option("--align", align,
                      "Rigid alignment of the raw and filtered meshes to the CAD surface first: none (meshes already in "
                      "the CAD frame, as simulated ones are) or icp (point-to-plane ICP; the paper aligned by hand)")

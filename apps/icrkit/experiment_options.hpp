@@ -37,7 +37,8 @@ struct ExperimentOptions {
   std::string align = "none";
   int renders = 1;
 
-  void addTo(CLI::App& command);
+  /// `with_preselection` false: the command has its own --preselection.
+  void addTo(CLI::App& command, bool with_preselection = true);
   /// Validated (InputError naming the option).
   eval::ExperimentConfig config() const;
   eval::Shard parsedShard() const;

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   addEvaluateCommand(app, runner);
   addMergeCommand(app, runner);
   addPaperCommand(app, runner);
+  addSensitivityCommand(app, runner);
   addRenderCommand(app, runner);
   addReportCommand(app, runner);
 
