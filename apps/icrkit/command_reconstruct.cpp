@@ -54,6 +54,7 @@ struct ReconstructOptions {
   int passes = 1;
   std::string preselection = "default";
   bool mesh_kept_points_only = false;
+  double mesh_thinning = reconstruction::ReconstructionParameters{}.meshing.thinning_factor;
   double board_square = 0.0;
   std::string board_origin;
   DepthFolderFlags folder;
@@ -158,6 +159,9 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   params.smoothing.passes = options.passes;
   params.smoothing.preselection.rule = ndt::parsePreselectionRule(options.preselection);
   params.mesh_kept_points_only = options.mesh_kept_points_only;
+  if (!(std::isfinite(options.mesh_thinning) && options.mesh_thinning >= 0))
+    throw InputError("--mesh-thinning", "", "expected a factor >= 0 (0: no thinning)");
+  params.meshing.thinning_factor = options.mesh_thinning;
 
   // The ground truth is read (and for a folder matched to its frames)
   // before the long run, so that a bad file fails at once.
@@ -453,6 +457,10 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
       ->capture_default_str();
   command->add_option("--passes", options->passes, "3D-NDT smoothing passes")->capture_default_str();
   addPreselectionOption(*command, options->preselection, "for the filtered mesh");
+  command->add_option("--mesh-thinning", options->mesh_thinning,
+                      "Noise-layer thinning of the smoothed cloud before ball pivoting: cube edge in layer "
+                      "thicknesses (docs/meshing.md; 0: none; 8 makes one piece of a thick layer)")
+      ->capture_default_str();
   command->add_flag("--mesh-kept-points-only", options->mesh_kept_points_only,
                     "Drop the excluded points before meshing the smoothed cloud (the filtered mesh then has no "
                     "excluded vertex)");

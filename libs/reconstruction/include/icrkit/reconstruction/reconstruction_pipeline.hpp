@@ -100,9 +100,18 @@ struct ReconstructionParameters {
   /// spacing by default: the smoothed layer is thin and dense). Flakes of
   /// fewer than 24 faces beside the surface are dropped: a fused cloud's
   /// noise layer leaves them, and each adds a boundary loop.
+  ///
+  /// No noise-layer thinning by default (`thinning_factor` 0; `icrkit
+  /// reconstruct --mesh-thinning 8` turns it on): thinning leaves a coarser
+  /// filtered mesh, and the paper's intersection estimate (Algorithm 2)
+  /// maps a region's vertices, so a coarse mesh's regions cover less of the
+  /// CAD region. On the simulated Kinect B sets thinning cut the filtered
+  /// Int from 71 % to 20 % (bottle_kinect_B; docs/results.md). The real
+  /// recording's smoothed layer is thin enough not to be thinned anyway.
   BallPivotingParameters meshing = [] {
     BallPivotingParameters p;
     p.min_component_faces = 24;
+    p.thinning_factor = 0.0;
     return p;
   }();
   /// The raw mesh is the paper's baseline, every fused point as it is:
