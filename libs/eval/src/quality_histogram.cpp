@@ -1,5 +1,7 @@
 #include <icrkit/eval/quality_histogram.hpp>
 
+#include "xml_escape.hpp"
+
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
 
@@ -196,20 +198,7 @@ Scene layOut(const QualityHistogram& histogram, const QualityPlotOptions& option
   return scene;
 }
 
-std::string xmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
+using detail::xmlEscape;
 
 std::string num(double value) { return formatFixed(value, 2); }
 

@@ -1,6 +1,8 @@
 // The sensitivity study's table and plot, computed from grasp records.
 
 #include <icrkit/eval/results_tables.hpp>
+
+#include "xml_escape.hpp"
 #include <icrkit/eval/sensitivity_study.hpp>
 
 #include <icrkit/core/atomic_file.hpp>
@@ -194,16 +196,7 @@ std::string rgbText(const std::array<int, 3>& c) {
   return text;
 }
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (const char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
-  }
-  return out;
-}
+using detail::xmlEscape;
 
 }  // namespace
 
@@ -225,7 +218,7 @@ std::string sensitivitySvg(const SensitivityTable& table) {
   for (const Label& l : plot.labels) {
     std::snprintf(number, sizeof number, "x=\"%.1f\" y=\"%.1f\"", l.x, l.y);
     svg += std::string("<text ") + number + (l.centred ? " text-anchor=\"middle\"" : "") + " fill=\"" + rgbText(l.rgb) +
-           "\">" + escape(l.text) + "</text>\n";
+           "\">" + xmlEscape(l.text) + "</text>\n";
   }
   return svg + "</svg>\n";
 }

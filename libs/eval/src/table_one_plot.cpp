@@ -1,5 +1,7 @@
 #include <icrkit/eval/table_one_plot.hpp>
 
+#include "xml_escape.hpp"
+
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
 
@@ -77,16 +79,7 @@ Layout layOut(const TableOne& table) {
   return layout;
 }
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    if (c == '&') out += "&amp;";
-    else if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else out += c;
-  }
-  return out;
-}
+using detail::xmlEscape;
 
 }  // namespace
 
@@ -103,7 +96,7 @@ std::string tableOneSvg(const TableOne& table) {
   for (const Cell& cell : layout.cells)
     svg += "<text x=\"" + std::to_string(cell.x) + "\" y=\"" + std::to_string(cell.y) + "\"" +
            (cell.right_aligned ? " text-anchor=\"end\"" : "") + (cell.bold ? " font-weight=\"bold\"" : "") +
-           (cell.grey ? " fill=\"#888888\"" : " fill=\"#111111\"") + ">" + escape(cell.text) + "</text>\n";
+           (cell.grey ? " fill=\"#888888\"" : " fill=\"#111111\"") + ">" + xmlEscape(cell.text) + "</text>\n";
   svg += "</svg>\n";
   return svg;
 }
