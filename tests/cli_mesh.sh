@@ -141,6 +141,44 @@ assert max(v['nz'][1]) < 0, 'a normal does not face its viewpoint below the plan
 assert d['used_points'] > 0.95 * d['points'], d
 " || fail "per-point viewpoints did not orient the normals"
 
+# --- A noise layer (a sphere whose points are moved along their normals by
+# Gaussian noise of half the spacing, as many overlapping views leave it):
+# thinned for the pivoting, the thinned points put back into the faces, so
+# the mesh is closed and nearly every point a vertex; --no-reinsert leaves
+# them unused.
+py "
+import math, random
+random.seed(4)
+n = 6000
+with open('$work/layer.ply', 'w') as out:
+    out.write('ply\nformat ascii 1.0\nelement vertex %d\n' % n)
+    out.write(''.join('property double %s\n' % p for p in ('x', 'y', 'z', 'nx', 'ny', 'nz')))
+    out.write('end_header\n')
+    spacing = 0.05 * math.sqrt(4 * math.pi / n)
+    for i in range(n):
+        z = 1 - (2 * i + 1) / n
+        r, phi = math.sqrt(1 - z * z), i * math.pi * (3 - math.sqrt(5))
+        x, y = r * math.cos(phi), r * math.sin(phi)
+        h = 0.05 + random.gauss(0.0, 0.5 * spacing)
+        out.write('%.17g %.17g %.17g %.17g %.17g %.17g\n' % (h * x, h * y, h * z, x, y, z))
+" || { echo "could not generate the noisy layer" >&2; exit 1; }
+"$ICRKIT" mesh "$work/layer.ply" -o "$work/layer_mesh.ply" --json -q >"$work/layer.json" 2>"$work/err" ||
+  fail "mesh of the noisy layer failed: $(cat "$work/err")"
+check_mesh "$work/layer.json" "$work/layer_mesh.ply" 6000
+"$ICRKIT" mesh "$work/layer.ply" -o "$work/layer_bare.ply" --no-reinsert --json -q >"$work/layer_bare.json" \
+  2>"$work/err" || fail "mesh --no-reinsert failed: $(cat "$work/err")"
+check_mesh "$work/layer_bare.json" "$work/layer_bare.ply" 6000
+py "
+import json
+d = json.load(open('$work/layer.json'))
+bare = json.load(open('$work/layer_bare.json'))
+assert d['thinned_points'] > 3000 and d['reinserted_points'] >= 0.8 * d['thinned_points'], d
+assert d['used_points'] >= 0.85 * d['points'], d
+assert d['boundary_loops'] == 0 and d['components'] == 1 and d['euler_characteristic'] == 2, d
+assert bare['reinserted_points'] == 0 and bare['used_points'] == d['used_points'] - d['reinserted_points'], bare
+assert bare['boundary_loops'] == 0 and bare['euler_characteristic'] == 2, bare
+" || fail "the noise layer did not mesh closed with its thinned points put back: $(cat "$work/layer.json")"
+
 # --- Bad arguments and inputs: exit 2, one line, no output left behind
 printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n1 0 0 0 0 1\n' >"$work/two.ply"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n' >"$work/zero_normal.ply"

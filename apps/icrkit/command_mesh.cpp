@@ -29,6 +29,7 @@ struct MeshOptions {
   std::string normal_radius = "3x";
   std::string viewpoint;
   double thinning = reconstruction::BallPivotingParameters{}.thinning_factor;
+  bool no_reinsert = false;
   std::size_t fill_holes = reconstruction::BallPivotingParameters{}.close_holes_up_to;
   std::size_t min_component_faces = 0;
 };
@@ -46,6 +47,7 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
   if (!std::isfinite(options.thinning) || options.thinning < 0.0)
     throw InputError("--thinning", "", "expected a finite factor >= 0 (0 = off)");
   params.thinning_factor = options.thinning;
+  params.reinsert_thinned = !options.no_reinsert;
   params.close_holes_up_to = options.fill_holes;
   params.min_component_faces = options.min_component_faces;
   ndt::NormalEstimationParameters normal_params;
@@ -111,6 +113,7 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
                          {"layer_thickness_m", r.layer_thickness},
                          {"thinning_cell_m", r.thinning_cell},
                          {"thinned_points", r.thinned_points},
+                         {"reinserted_points", r.reinserted_points},
                          {"mesh_spacing_m", r.mesh_spacing},
                          {"removed_faces", r.removed_faces},
                          {"boundary_edges", r.boundary_edges},
@@ -150,8 +153,11 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner) {
   command
       ->add_option("--thinning", options->thinning,
                    "A noise layer thicker than its spacing (a cloud fused from many views) is thinned to one point "
-                   "per cube of this factor x its measured thickness before pivoting; 0 = off (docs/meshing.md)")
+                   "per cube of this factor x its measured thickness before pivoting, the others are put back "
+                   "into the faces afterwards; 0 = off (docs/meshing.md)")
       ->capture_default_str();
+  command->add_flag("--no-reinsert", options->no_reinsert,
+                    "Leave the points the thinning left out unused instead of putting them back into the faces");
   command
       ->add_option("--fill-holes", options->fill_holes,
                    "Fill holes of up to this many boundary edges (and a perimeter of up to 8 x the largest radius) "

@@ -96,8 +96,8 @@ nlohmann::json meshingJson(const reconstruction::BallPivotingReport& r) {
              return radii;
            }()},
           {"layer_thickness_m", r.layer_thickness}, {"thinning_cell_m", r.thinning_cell},
-          {"thinned_points", r.thinned_points},     {"closed_holes", r.closed_holes},
-          {"removed_faces", r.removed_faces}};
+          {"thinned_points", r.thinned_points},     {"reinserted_points", r.reinserted_points},
+          {"closed_holes", r.closed_holes},         {"removed_faces", r.removed_faces}};
 }
 
 nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& context) {
@@ -458,8 +458,9 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--passes", options->passes, "3D-NDT smoothing passes")->capture_default_str();
   addPreselectionOption(*command, options->preselection, "for the filtered mesh");
   command->add_option("--mesh-thinning", options->mesh_thinning,
-                      "Noise-layer thinning of the smoothed cloud before ball pivoting: cube edge in layer "
-                      "thicknesses (docs/meshing.md; 0: none; 8 makes one piece of a thick layer)")
+                      "Noise-layer thinning of the smoothed cloud before ball pivoting, cube edge in layer "
+                      "thicknesses; the thinned points are put back into the faces afterwards (docs/meshing.md; "
+                      "0: none)")
       ->capture_default_str();
   command->add_flag("--mesh-kept-points-only", options->mesh_kept_points_only,
                     "Drop the excluded points before meshing the smoothed cloud (the filtered mesh then has no "

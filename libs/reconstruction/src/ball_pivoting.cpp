@@ -7,6 +7,7 @@
 #include "hole_triangulation.hpp"
 #include "layer_thinning.hpp"
 #include "morton_order.hpp"
+#include "point_insertion.hpp"
 #include "point_grid.hpp"
 
 #include <Eigen/Geometry>
@@ -673,6 +674,9 @@ private:
 // spacings: a clean sample is left alone.
 constexpr double kThicknessWindow = 6.0;
 constexpr double kThinningThreshold = 1.5;
+// Reinserted points keep this many median spacings (of the whole cloud)
+// from each other and from the vertices already there.
+constexpr double kInsertionSeparation = 0.35;
 
 void validateInput(const PointCloud& cloud) {
   if (cloud.size() < 3)
@@ -745,7 +749,8 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   double duplicate_distance = params.duplicate_distance;
   if (!std::isfinite(duplicate_distance)) throw InputError("duplicate_distance", "", "must be finite");
   if (duplicate_distance < 0.0) duplicate_distance = 1e-9 * cloud.bounds().diagonal().norm();
-  BallPivoter pivoter(cloud, mortonOrder(cloud.positions), params);
+  const std::vector<std::uint32_t> order = mortonOrder(cloud.positions);
+  BallPivoter pivoter(cloud, order, params);
   const std::vector<double> nearest = nearestNeighbourDistances(pivoter.positions());
   const Spacing spacing_stats = spacingOf(nearest);
   const double spacing = spacing_stats.median;
@@ -758,6 +763,7 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   report.duplicate_points = pivoter.markDuplicates(nearest, duplicate_distance);
   report.unoriented_points = pivoter.unorientedPoints();
   Spacing mesh_spacing = spacing_stats;
+  std::vector<std::size_t> thinned;  // input indices
   if (!std::isfinite(params.thinning_factor) || params.thinning_factor < 0.0)
     throw InputError("thinning_factor", "", "must be finite and >= 0");
   if (params.thinning_factor > 0.0 && spacing > 0.0) {
@@ -765,7 +771,11 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
     const double cell = params.thinning_factor * report.layer_thickness;
     if (cell > kThinningThreshold * spacing) {
       report.thinning_cell = cell;
-      report.thinned_points = pivoter.markThinned(thinToCells(pivoter.positions(), pivoter.skipped(), cell));
+      const std::vector<std::uint8_t> before = pivoter.skipped();
+      report.thinned_points = pivoter.markThinned(thinToCells(pivoter.positions(), before, cell));
+      for (std::size_t i = 0; i < before.size(); ++i)
+        if (!before[i] && pivoter.skipped()[i]) thinned.push_back(order[i]);
+      std::sort(thinned.begin(), thinned.end());
       std::vector<Vector3d> kept;
       for (std::size_t i = 0; i < pivoter.positions().size(); ++i)
         if (!pivoter.skipped()[i]) kept.push_back(pivoter.positions()[i]);
@@ -784,6 +794,23 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
 
   result.mesh.vertices = cloud;
   result.mesh.faces = pivoter.takeFaces();
+  if (params.reinsert_thinned && !thinned.empty()) {
+    // The layer's points lie within a few thicknesses of the mesh over the
+    // kept ones; half a cell is several thicknesses (the cell is
+    // `thinning_factor` of them) and well short of a thin wall's far side.
+    PointInsertionParameters insertion;
+    insertion.max_offset = 0.5 * report.thinning_cell;
+    insertion.min_separation = kInsertionSeparation * spacing;
+    const PointInsertionReport inserted =
+        insertPointsIntoMesh(cloud.positions, cloud.normals, thinned, insertion, result.mesh.faces);
+    report.reinserted_points = inserted.inserted;
+    // Split sides of holes add boundary edges (loops and the Euler
+    // characteristic stay); counted on the final mesh, which also checks
+    // that the insertion kept every edge manifold.
+    const EdgeStatistics edges = edgeStatistics(result.mesh);
+    report.boundary_edges = edges.boundary_edges;
+    report.non_manifold_edges = edges.non_manifold_edges;
+  }
   const MeshComponents components = meshComponents(result.mesh);
   report.triangles = result.mesh.faces.size();
   report.unused_points = components.unreferenced_vertices;

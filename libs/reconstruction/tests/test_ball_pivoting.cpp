@@ -156,6 +156,14 @@ TEST(BallPivoting, NoisySphereStaysManifold) {
   EXPECT_EQ(thinned.report.boundary_loops, 0u);
   EXPECT_EQ(thinned.report.components, 1u);
   EXPECT_EQ(thinned.report.euler_characteristic, 2);
+  // The thinned points go back into the faces (a few crowd a vertex or
+  // would turn a face against the normals): the mesh is closed and as
+  // dense as the cloud.
+  EXPECT_GE(thinned.report.reinserted_points, 8 * thinned.report.thinned_points / 10);
+  EXPECT_GE(thinned.report.used_points, 85 * cloud.size() / 100);
+  std::cout << "noisy sphere, thinned: " << thinned.report.thinned_points << " thinned, "
+            << thinned.report.reinserted_points << " put back, " << thinned.report.used_points << "/" << cloud.size()
+            << " used\n";
   const MeshComponents parts = meshComponents(r.mesh);
   std::vector<std::size_t> sizes(parts.count, 0);
   for (int c : parts.face_component) ++sizes[static_cast<std::size_t>(c)];

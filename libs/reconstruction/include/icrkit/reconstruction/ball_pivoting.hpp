@@ -50,6 +50,16 @@ struct BallPivotingParameters {
   /// vertices; automatic radii then follow the kept points' spacing. A
   /// clean sample (a mesh's vertices, a laser scan) is left alone. 0 = off.
   double thinning_factor = 8.0;
+  /// After the pivoting (and hole filling) over the kept points, the points
+  /// the thinning left out are put back as vertices: each goes into the
+  /// face it projects onto (within half a thinning cell of its plane, the
+  /// normals agreeing, at least half a median spacing from the vertices
+  /// already there), and that face is split around it (a Delaunay
+  /// triangulation in its plane, its sides split alike on both faces). The
+  /// mesh keeps the thinned mesh's topology (loops, components, no
+  /// non-manifold edge) and regains the cloud's density, so regions and
+  /// Algorithm 2, which work on vertices, see all of them.
+  bool reinsert_thinned = true;
   /// After the last radius, holes whose boundary (a simple cycle of
   /// boundary edges) has at most this many edges and a perimeter of at
   /// most `hole_perimeter_factor` x the largest radius are filled with
@@ -86,7 +96,8 @@ struct BallPivotingReport {
   double median_spacing = 0.0;        ///< metres, of the input points
   double layer_thickness = 0.0;       ///< metres (see `thinning_factor`; 0 when off)
   double thinning_cell = 0.0;         ///< metres; 0 when the cloud was not thinned
-  std::size_t thinned_points = 0;     ///< of the unused ones: left out by the thinning
+  std::size_t thinned_points = 0;     ///< left out of the pivoting by the thinning
+  std::size_t reinserted_points = 0;  ///< of those: put back into the faces afterwards (used)
   double mesh_spacing = 0.0;          ///< metres, median spacing of the points that took part
   std::size_t points = 0;
   std::size_t triangles = 0;

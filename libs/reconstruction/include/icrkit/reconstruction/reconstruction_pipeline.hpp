@@ -101,17 +101,18 @@ struct ReconstructionParameters {
   /// fewer than 24 faces beside the surface are dropped: a fused cloud's
   /// noise layer leaves them, and each adds a boundary loop.
   ///
-  /// No noise-layer thinning by default (`thinning_factor` 0; `icrkit
-  /// reconstruct --mesh-thinning 8` turns it on): thinning leaves a coarser
-  /// filtered mesh, and the paper's intersection estimate (Algorithm 2)
-  /// maps a region's vertices, so a coarse mesh's regions cover less of the
-  /// CAD region. On the simulated Kinect B sets thinning cut the filtered
-  /// Int from 71 % to 20 % (bottle_kinect_B; docs/results.md). The real
-  /// recording's smoothed layer is thin enough not to be thinned anyway.
+  /// The smoothed cloud's noise layer is thinned where it is thick against
+  /// its spacing (`thinning_factor` 8, the simulated Kinect B sets; the
+  /// real recording's smoothed layer is too thin to be) and the thinned
+  /// points are put back into the faces afterwards (`reinsert_thinned`):
+  /// one piece, and every vertex of the unthinned mesh's density. Without
+  /// the reinsertion a thinned mesh is coarse, and the paper's
+  /// intersection estimate (Algorithm 2), which maps a region's vertices,
+  /// covers less of the CAD region (bottle_kinect_B: filtered Int 20 %
+  /// thinned, 71 % unthinned; docs/results.md).
   BallPivotingParameters meshing = [] {
     BallPivotingParameters p;
     p.min_component_faces = 24;
-    p.thinning_factor = 0.0;
     return p;
   }();
   /// The raw mesh is the paper's baseline, every fused point as it is:
