@@ -3,6 +3,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
+#include <icrkit/eval/kept_vertex_snapping.hpp>
 #include <icrkit/eval/region_quality.hpp>
 #include <icrkit/icr/grasp_sampling.hpp>
 #include <icrkit/icr/graspable_object.hpp>
@@ -16,6 +17,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <utility>
 
 namespace icrkit::eval {
 namespace {
@@ -102,6 +104,15 @@ struct DatasetExperiment::Impl {
   icr::GraspableObject filtered_object;
   CadToScanMapping to_raw;
   CadToScanMapping to_filtered;
+  // The snapping radius is the mapping's neighbourhood radius
+  // (MappingParameters::neighbourhood_radius as the filtered mapping resolved
+  // it: default twice the filtered mesh's median edge length). Eq. (2)
+  // already treats the vertices within it of the line's crossing as equally
+  // good images of one CAD contact, so a move within it stays a transfer of
+  // the same contact. The other reach, max_line_distance (10 mm), bounds how
+  // far a reconstruction may lie from the CAD surface; a move that far would
+  // be a different contact.
+  KeptVertexSnapping filtered_snapping;
   IntersectionEstimator estimator;
   VertexFaces raw_faces, filtered_faces;
   RegionQualityEvaluator quality;
@@ -121,18 +132,40 @@ struct DatasetExperiment::Impl {
         filtered_object(*m.filtered, f, c.filteredExclusion(*m.filtered)),
         to_raw(*m.raw, c.mapping),
         to_filtered(*m.filtered, c.mapping),
+        filtered_snapping(filtered_object, to_filtered.target().neighbourhoodRadius()),
         estimator(*m.cad, c.mapping),
         raw_faces(vertexFaces(*m.raw)),
         filtered_faces(vertexFaces(*m.filtered)),
         quality(*m.cad, RegionQualityParameters{c.metric, c.paths}) {}
 
+  /// Force closure, epsilon and whether the TWS fits, for mapped contacts.
+  struct TaskCheck {
+    bool fulfilled = false;
+    double epsilon = 0.0;
+    std::string reason;  ///< empty when fulfilled
+  };
+  TaskCheck checkTask(const std::vector<int>& contacts, double tws_radius, const icr::GraspableObject& object) const;
   MeshOutcome transfer(const std::vector<int>& cad_contacts, double tws_radius, const CadToScanMapping& mapping,
                        const icr::GraspableObject& object) const;
+  SnappedOutcome snapToKeptVertices(const std::vector<int>& contacts, double tws_radius) const;
   RegionComparison compare(const std::vector<int>& cad_region, const CadRegionSummary& cad_summary,
                            const TriangleMesh& scan, const VertexFaces& scan_faces,
                            const std::vector<int>& scan_region, DistanceWorkspace& workspace) const;
   GraspRecord evaluate(std::size_t set, std::size_t index, DistanceWorkspace& workspace) const;
 };
+
+DatasetExperiment::Impl::TaskCheck DatasetExperiment::Impl::checkTask(const std::vector<int>& contacts,
+                                                                     double tws_radius,
+                                                                     const icr::GraspableObject& object) const {
+  TaskCheck check;
+  const icr::GraspWrenchSpace gws = icr::graspWrenchSpace(object, contacts, model);
+  check.epsilon = gws.force_closure ? gws.epsilon : 0.0;
+  check.fulfilled = gws.force_closure && gws.epsilon >= tws_radius;
+  if (!check.fulfilled)
+    check.reason = gws.force_closure ? "the GWS does not hold the TWS (epsilon below alpha x the CAD epsilon)"
+                                     : "not force closure: " + gws.reason;
+  return check;
+}
 
 MeshOutcome DatasetExperiment::Impl::transfer(const std::vector<int>& cad_contacts, double tws_radius,
                                               const CadToScanMapping& mapping,
@@ -161,13 +194,27 @@ MeshOutcome DatasetExperiment::Impl::transfer(const std::vector<int>& cad_contac
       outcome.reason = fingerName(k) + " lands on a vertex excluded by the preselection";
       break;
     }
-  const icr::GraspWrenchSpace gws = icr::graspWrenchSpace(object, outcome.contacts, model);
-  outcome.epsilon = gws.force_closure ? gws.epsilon : 0.0;
-  outcome.task_fulfilled = gws.force_closure && gws.epsilon >= tws_radius;
-  if (outcome.reason.empty() && !outcome.task_fulfilled)
-    outcome.reason = gws.force_closure ? "the GWS does not hold the TWS (epsilon below alpha x the CAD epsilon)"
-                                       : "not force closure: " + gws.reason;
+  const TaskCheck task = checkTask(outcome.contacts, tws_radius, object);
+  outcome.epsilon = task.epsilon;
+  outcome.task_fulfilled = task.fulfilled;
+  if (outcome.reason.empty()) outcome.reason = task.reason;
   return outcome;
+}
+
+SnappedOutcome DatasetExperiment::Impl::snapToKeptVertices(const std::vector<int>& contacts,
+                                                           double tws_radius) const {
+  SnappedOutcome snapped;
+  SnappedContacts moved = filtered_snapping.snap(contacts);
+  snapped.contacts = std::move(moved.contacts);
+  snapped.move_distances_m = std::move(moved.move_distances_m);
+  snapped.reason = std::move(moved.reason);
+  if (!snapped.reason.empty()) return snapped;
+  // The same task check as the strict G^F's, on the same object.
+  const TaskCheck task = checkTask(snapped.contacts, tws_radius, filtered_object);
+  snapped.epsilon = task.epsilon;
+  snapped.task_fulfilled = task.fulfilled;
+  snapped.reason = task.reason;
+  return snapped;
 }
 
 RegionComparison DatasetExperiment::Impl::compare(const std::vector<int>& cad_region,
@@ -209,6 +256,10 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
   record.tws_radius = config.alpha * grasp.epsilon;
   record.raw = transfer(grasp.contacts, record.tws_radius, to_raw, raw_object);
   record.filtered = transfer(grasp.contacts, record.tws_radius, to_filtered, filtered_object);
+  // Only beside the strict outcome: whatever it finds, the grasp is
+  // evaluated below only when the strict G^F is eligible.
+  if (config.snap_excluded_contacts && !record.filtered.preselection_passed)
+    record.filtered.snapped = snapToKeptVertices(record.filtered.contacts, record.tws_radius);
   if (!record.raw.eligible() || !record.filtered.eligible()) return record;
 
   const icr::IcrParameters params = config.icrParameters(record.tws_radius);

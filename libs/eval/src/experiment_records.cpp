@@ -50,6 +50,22 @@ Json regionToJson(const RegionComparison& region) {
   return j;
 }
 
+Json doublesToJson(const std::vector<double>& values) {
+  Json array = Json::array();
+  for (const double value : values) array.push_back(doubleToJson(value));
+  return array;
+}
+
+Json snappedToJson(const SnappedOutcome& snapped) {
+  Json j;
+  j["contacts"] = snapped.contacts;
+  j["move_distances_m"] = doublesToJson(snapped.move_distances_m);
+  j["task_fulfilled"] = snapped.task_fulfilled;
+  j["epsilon"] = doubleToJson(snapped.epsilon);
+  j["reason"] = snapped.reason;
+  return j;
+}
+
 Json meshToJson(const MeshOutcome& mesh) {
   Json j;
   j["contacts"] = mesh.contacts;
@@ -60,6 +76,9 @@ Json meshToJson(const MeshOutcome& mesh) {
   Json regions = Json::array();
   for (const auto& region : mesh.regions) regions.push_back(regionToJson(region));
   j["regions"] = std::move(regions);
+  // Written only when computed, so records without it (the raw mesh, grasps
+  // that passed the preselection, runs before it existed) keep their form.
+  if (mesh.snapped) j["snapped"] = snappedToJson(*mesh.snapped);
   return j;
 }
 
@@ -131,6 +150,15 @@ public:
     return result;
   }
 
+  /// The member, or null when the key is absent: for fields added after
+  /// records were first written.
+  const Json& optionalMember(const Json& object, const std::string& path, const char* key) const {
+    static const Json absent;
+    if (!object.is_object()) fail(path, "expected a JSON object");
+    auto it = object.find(key);
+    return it == object.end() ? absent : *it;
+  }
+
   const Json& array(const Json& object, const std::string& path, const char* key) const {
     const Json& value = member(object, path, key);
     if (!value.is_array()) fail(join(path, key), "expected an array");
@@ -179,6 +207,17 @@ RegionComparison regionFromJson(const FieldReader& in, const Json& j, const std:
   return region;
 }
 
+SnappedOutcome snappedFromJson(const FieldReader& in, const Json& j, const std::string& path) {
+  if (!j.is_object()) in.fail(path, "expected a JSON object or null");
+  SnappedOutcome snapped;
+  snapped.contacts = in.intArray(j, path, "contacts");
+  snapped.move_distances_m = in.doubleArray(j, path, "move_distances_m");
+  snapped.task_fulfilled = in.boolean(j, path, "task_fulfilled");
+  snapped.epsilon = in.number(j, path, "epsilon");
+  snapped.reason = in.string(j, path, "reason");
+  return snapped;
+}
+
 MeshOutcome meshFromJson(const FieldReader& in, const Json& j, const std::string& path) {
   if (!j.is_object()) in.fail(path, "expected a JSON object");
   MeshOutcome mesh;
@@ -194,6 +233,9 @@ MeshOutcome meshFromJson(const FieldReader& in, const Json& j, const std::string
     if (!regions[i].is_object()) in.fail(regionPath, "expected a JSON object");
     mesh.regions.push_back(regionFromJson(in, regions[i], regionPath));
   }
+  // Absent (records written before snapping existed) or null: not computed.
+  const Json& snapped = in.optionalMember(j, path, "snapped");
+  if (!snapped.is_null()) mesh.snapped = snappedFromJson(in, snapped, FieldReader::join(path, "snapped"));
   return mesh;
 }
 

@@ -38,6 +38,8 @@ SensitivityTable computeSensitivityTable(const std::vector<GraspRecord>& records
         const EligibilitySummary e = computeEligibility(mine);
         row.raw_eligible_percent = e.overall.all.percent(e.overall.all.raw_eligible);
         row.filtered_eligible_percent = e.overall.all.percent(e.overall.all.filtered_eligible);
+        row.filtered_eligible_after_snapping_percent =
+            e.overall.all.percent(e.overall.all.filtered_eligible_after_snapping);
         const TableOne t = computeTableOne(mine);
         const TableOneRow& one = t.rows.front();
         row.evaluated = one.evaluated_grasps;
@@ -100,7 +102,9 @@ std::string sensitivityJson(const SensitivityTable& t) {
                     {"raw_intersection_percent", optional(r.raw_intersection_percent)},
                     {"raw_false_positive_percent", optional(r.raw_false_positive_percent)},
                     {"filtered_intersection_percent", optional(r.filtered_intersection_percent)},
-                    {"filtered_false_positive_percent", optional(r.filtered_false_positive_percent)}});
+                    {"filtered_false_positive_percent", optional(r.filtered_false_positive_percent)},
+                    {"filtered_eligible_after_snapping_percent",
+                     optional(r.filtered_eligible_after_snapping_percent)}});
   return nlohmann::json{{"object", t.object},
                         {"spacing_m", t.spacing_m},
                         {"noise_levels", t.noise_levels},

@@ -179,6 +179,24 @@ TEST(Experiment, TheRealBunnyMeshAgainstItselfAndANoisyCopy) {
     }
   }
   EXPECT_GT(evaluated, 0u);
+
+  // Most vertices excluded, as the paper's literal rule leaves our meshes:
+  // snapping to the nearest kept vertex never makes fewer grasps eligible,
+  // and only strictly eligible grasps are evaluated.
+  TriangleMesh flagged = cad;
+  std::mt19937 random(3);
+  std::bernoulli_distribution drop(0.7);
+  for (std::size_t v = 0; v < flagged.vertexCount(); ++v) flagged.vertices.setFlag("excluded", v, drop(random));
+  const DatasetExperiment preselected({"bunny", &cad, &raw, &flagged}, config);
+  std::size_t strict = 0, snapped = 0;
+  for (const GraspRecord& r : preselected.run(0, preselected.itemCount())) {
+    strict += r.filtered.eligible();
+    snapped += r.filtered.eligibleAfterSnapping();
+    EXPECT_EQ(r.filtered.snapped.has_value(), !r.filtered.preselection_passed);
+    EXPECT_EQ(r.evaluated, r.raw.eligible() && r.filtered.eligible());
+  }
+  EXPECT_GE(snapped, strict);
+  EXPECT_GT(snapped, 0u);
 }
 
 }  // namespace

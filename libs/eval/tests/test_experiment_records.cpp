@@ -54,6 +54,18 @@ void expectSameMesh(const MeshOutcome& expected, const MeshOutcome& actual, cons
     expectSameDouble(e.d2_m, a.d2_m, at + ".d2_m");
     expectSameOptional(e.quality, a.quality, at + ".quality");
   }
+  ASSERT_EQ(expected.snapped.has_value(), actual.snapped.has_value()) << what;
+  if (expected.snapped) {
+    const SnappedOutcome& e = *expected.snapped;
+    const SnappedOutcome& a = *actual.snapped;
+    EXPECT_EQ(e.contacts, a.contacts) << what;
+    ASSERT_EQ(e.move_distances_m.size(), a.move_distances_m.size()) << what;
+    for (std::size_t i = 0; i < e.move_distances_m.size(); ++i)
+      expectSameDouble(e.move_distances_m[i], a.move_distances_m[i], what + ".snapped.move_distances_m");
+    EXPECT_EQ(e.task_fulfilled, a.task_fulfilled) << what;
+    expectSameDouble(e.epsilon, a.epsilon, what + ".snapped.epsilon");
+    EXPECT_EQ(e.reason, a.reason) << what;
+  }
 }
 
 void expectSameRecord(const GraspRecord& expected, const GraspRecord& actual) {
@@ -115,6 +127,66 @@ TEST(Records, RoundTripIsBitExact) {
   expectSameRecord(record, fromJsonLine(line));
   // Writing what was read gives the same text again.
   EXPECT_EQ(line, toJsonLine(fromJsonLine(line)));
+}
+
+GraspRecord snappedRecord() {
+  GraspRecord record = sampleRecord();
+  record.filtered.contacts = {1, 2, 3, 4};
+  SnappedOutcome snapped;
+  snapped.contacts = {1, 9, 3, 4};
+  snapped.move_distances_m = {0.0, 1.0 / 3.0 * 1e-3, -0.0, 5e-324};
+  snapped.task_fulfilled = true;
+  snapped.epsilon = 0.1 + 0.2;
+  record.filtered.snapped = snapped;
+  return record;
+}
+
+TEST(Records, SnappedOutcomeRoundTripsBitExact) {
+  GraspRecord record = snappedRecord();
+  const std::string line = toJsonLine(record);
+  EXPECT_NE(line.find("\"snapped\":{\"contacts\":[1,9,3,4],\"move_distances_m\":["), std::string::npos) << line;
+  expectSameRecord(record, fromJsonLine(line));
+  EXPECT_EQ(line, toJsonLine(fromJsonLine(line)));
+  EXPECT_TRUE(fromJsonLine(line).filtered.eligibleAfterSnapping());
+  EXPECT_FALSE(fromJsonLine(line).filtered.eligible());
+
+  // A snapping that failed: no contacts, a reason.
+  record.filtered.snapped = SnappedOutcome{};
+  record.filtered.snapped->reason = "contact 2: no kept vertex within 1.600 mm of excluded vertex 3";
+  const GraspRecord back = fromJsonLine(toJsonLine(record));
+  expectSameRecord(record, back);
+  EXPECT_FALSE(back.filtered.eligibleAfterSnapping());
+}
+
+TEST(Records, RecordsWithoutTheSnappedOutcomeReadAsNotComputed) {
+  // Not computed: the key is not written, so such lines are those written
+  // before snapping existed, and they read back unset.
+  const std::string line = toJsonLine(sampleRecord());
+  EXPECT_EQ(line.find("snapped"), std::string::npos);
+  const GraspRecord back = fromJsonLine(line);
+  EXPECT_FALSE(back.filtered.snapped.has_value());
+  EXPECT_FALSE(back.raw.snapped.has_value());
+  expectSameRecord(sampleRecord(), back);
+
+  // An explicit null means the same.
+  std::string with_null = line;
+  const std::size_t regions = with_null.find("\"regions\":", with_null.find("\"filtered\":"));
+  with_null.insert(regions, "\"snapped\":null,");
+  EXPECT_FALSE(fromJsonLine(with_null).filtered.snapped.has_value());
+
+  // A malformed one names its field.
+  std::string malformed = toJsonLine(snappedRecord());
+  const std::size_t epsilon = malformed.find("\"epsilon\":", malformed.find("\"snapped\":"));
+  malformed.replace(epsilon, 10, "\"epsilon\":\"x\",\"ignored\":");
+  try {
+    fromJsonLine(malformed, "x", 3);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.detail().find("filtered.snapped.epsilon"), std::string::npos) << e.detail();
+  }
+  std::string not_object = toJsonLine(sampleRecord());
+  not_object.insert(not_object.find("\"regions\":", not_object.find("\"filtered\":")), "\"snapped\":[1],");
+  EXPECT_THROW(fromJsonLine(not_object, "x", 1), InputError);
 }
 
 TEST(Records, NonFiniteDoublesRoundTrip) {

@@ -224,6 +224,65 @@ TEST(TableEligibility, CountsAndRates) {
   EXPECT_FALSE(EligibilityCounts{}.percent(0).has_value());
 }
 
+GraspRecord snappedTo(GraspRecord record, bool task) {
+  SnappedOutcome snapped;
+  snapped.contacts = {1, 2, 3, 4};
+  snapped.move_distances_m = {0.001, 0.0, 0.0, 0.0};
+  snapped.task_fulfilled = task;
+  record.filtered.snapped = snapped;
+  return record;
+}
+
+TEST(TableEligibility, AfterSnappingIsCountedBesideTheStrictCheck) {
+  std::vector<GraspRecord> records;
+  records.push_back(evaluated("a", 4, 0, {{10, 1}}, {{1, 0}}));                           // strictly eligible
+  records.push_back(snappedTo(notEvaluated("a", 4, 1, true, false, true), true));         // eligible once snapped
+  records.push_back(snappedTo(notEvaluated("a", 4, 2, true, false, true), false));        // snapped, task lost
+  records.push_back(notEvaluated("a", 5, 0, true, false, true));                          // not recorded (older run)
+  records.push_back(snappedTo(notEvaluated("b", 5, 0, true, false, false), true));        // eligible once snapped
+  const EligibilitySummary summary = computeEligibility(records);
+  const EligibilityCounts& a = summary.datasets[0].all;
+  EXPECT_EQ(a.filtered_eligible, 1u);
+  EXPECT_EQ(a.filtered_eligible_after_snapping, 2u);
+  EXPECT_EQ(a.filtered_snapping_not_recorded, 1u);
+  EXPECT_EQ(summary.datasets[0].by_fingers.at(4).filtered_eligible_after_snapping, 2u);
+  EXPECT_EQ(summary.datasets[0].by_fingers.at(5).filtered_eligible_after_snapping, 0u);
+  EXPECT_EQ(summary.datasets[1].all.filtered_eligible_after_snapping, 1u);
+  EXPECT_EQ(summary.overall.all.filtered_eligible_after_snapping, 3u);
+
+  // The strict counts, Table I and every existing key are those of the same
+  // records without the snapped grasps.
+  std::vector<GraspRecord> strict = records;
+  for (GraspRecord& r : strict) r.filtered.snapped.reset();
+  const EligibilitySummary plain = computeEligibility(strict);
+  EXPECT_EQ(plain.overall.all.filtered_eligible, summary.overall.all.filtered_eligible);
+  EXPECT_EQ(plain.overall.all.filtered_preselection_failed, summary.overall.all.filtered_preselection_failed);
+  EXPECT_EQ(plain.overall.all.both_eligible, summary.overall.all.both_eligible);
+  EXPECT_EQ(plain.overall.all.filtered_eligible_after_snapping, 1u);  // only the strictly eligible one
+  EXPECT_EQ(tableOneJson(computeTableOne(strict)), tableOneJson(computeTableOne(records)));
+  const auto with = nlohmann::json::parse(eligibilityJson(summary));
+  const auto without = nlohmann::json::parse(eligibilityJson(plain));
+  for (const auto* group : {&without["overall"]["all"], &without["datasets"][0]["all"]}) {
+    const auto& counterpart = group == &without["overall"]["all"] ? with["overall"]["all"] : with["datasets"][0]["all"];
+    for (const auto& item : group->items()) {
+      if (item.key().find("snapping") != std::string::npos) continue;
+      EXPECT_EQ(counterpart[item.key()], item.value()) << item.key();
+    }
+  }
+  EXPECT_EQ(with["paper"], without["paper"]);
+
+  // The new keys, per dataset, per finger count and overall, and their label.
+  EXPECT_EQ(with["overall"]["all"]["filtered_eligible_after_snapping"].get<int>(), 3);
+  EXPECT_DOUBLE_EQ(with["overall"]["all"]["filtered_eligible_after_snapping_percent"].get<double>(), 60.0);
+  EXPECT_EQ(with["overall"]["all"]["filtered_snapping_not_recorded"].get<int>(), 1);
+  EXPECT_EQ(with["datasets"][0]["all"]["filtered_eligible_after_snapping"].get<int>(), 2);
+  EXPECT_EQ(with["datasets"][0]["by_fingers"][0]["filtered_eligible_after_snapping"].get<int>(), 2);
+  EXPECT_EQ(with["notes"]["filtered_eligible_after_snapping"].get<std::string>().rfind(
+                "after snapping to the nearest kept vertex (not the paper's check)", 0),
+            0u);
+  EXPECT_TRUE(with["notes"].contains("filtered_snapping_not_recorded"));
+}
+
 TEST(TableWriters, WritesAllFourFiles) {
   test::ScratchDir scratch;
   std::vector<GraspRecord> records;

@@ -107,6 +107,7 @@ std::vector<std::string> renumberedLines(std::vector<GraspRecord> records, const
     r.cad_contacts = renumbered(r.cad_contacts, cad.new_index);
     r.raw.contacts = renumbered(r.raw.contacts, raw.new_index);
     r.filtered.contacts = renumbered(r.filtered.contacts, filtered.new_index);
+    if (r.filtered.snapped) r.filtered.snapped->contacts = renumbered(r.filtered.snapped->contacts, filtered.new_index);
     lines.push_back(toJsonLine(r));
   }
   return lines;

@@ -25,6 +25,18 @@ struct RegionComparison {
   std::optional<double> quality;          ///< Q_n = d2 / d1; unset when d1 = 0 (degenerate)
 };
 
+/// G^F after its contacts on excluded vertices moved to the nearest kept
+/// vertex within the mapping's neighbourhood radius (kept_vertex_snapping.hpp):
+/// what a planner would do, not the paper's check, and never used in place of
+/// it (no region is grown for a grasp that is eligible only after snapping).
+struct SnappedOutcome {
+  std::vector<int> contacts;               ///< empty when a contact had no kept vertex within reach
+  std::vector<double> move_distances_m;    ///< per contact, how far it moved (0 when it stayed); empty with contacts
+  bool task_fulfilled = false;             ///< as MeshOutcome::task_fulfilled, for the snapped contacts
+  double epsilon = 0.0;                    ///< of the snapped grasp, 0 when not force closure or not a grasp
+  std::string reason;                      ///< why the snapped grasp does not meet the task; empty when it does
+};
+
 /// A grasp moved onto one reconstructed mesh (raw or filtered).
 struct MeshOutcome {
   std::vector<int> contacts;               ///< by eq. (2); empty when a contact could not be mapped
@@ -33,8 +45,16 @@ struct MeshOutcome {
   double epsilon = 0.0;                    ///< of the mapped grasp, 0 when not force closure
   std::string reason;                      ///< why it is not eligible; empty when it is
   std::vector<RegionComparison> regions;   ///< one per finger, when the grasp was evaluated
+  /// Filtered mesh only: set when the grasp was mapped but failed the
+  /// preselection (ExperimentConfig::snap_excluded_contacts); unset otherwise,
+  /// and in records written before it existed (then: not computed).
+  std::optional<SnappedOutcome> snapped;
 
+  /// The paper's check: no contact on an excluded vertex, and the task met.
   bool eligible() const { return preselection_passed && task_fulfilled; }
+  /// Eligible, or eligible once its contacts snapped to kept vertices (not
+  /// the paper's check; false when snapping was not computed).
+  bool eligibleAfterSnapping() const { return eligible() || (snapped && snapped->task_fulfilled); }
 };
 
 struct GraspRecord {

@@ -62,6 +62,13 @@ struct EligibilityCounts {
   std::size_t filtered_preselection_failed = 0;   ///< !filtered.preselection_passed
   std::size_t both_eligible = 0;                  ///< raw and filtered eligible
   std::size_t evaluated = 0;                      ///< record.evaluated (normally equal to both_eligible)
+  /// filtered.eligibleAfterSnapping(): after snapping to the nearest kept
+  /// vertex (not the paper's check); >= filtered_eligible.
+  std::size_t filtered_eligible_after_snapping = 0;
+  /// Failed the preselection with no snapped grasp recorded (older records,
+  /// or snapping switched off): filtered_eligible_after_snapping is then a
+  /// lower bound.
+  std::size_t filtered_snapping_not_recorded = 0;
 
   /// 100 count / grasps; unset without grasps.
   std::optional<double> percent(std::size_t count) const;
@@ -113,7 +120,8 @@ std::string tableOneMarkdown(const TableOne& table);
 std::string tableOneCsv(const TableOne& table);
 /// JSON: {"fingers", "rows": [...], "average": {...}}; unset is null.
 std::string tableOneJson(const TableOne& table);
-/// JSON: {"datasets": [...], "overall": {...}, "paper": {...}}; unset is null.
+/// JSON: {"datasets": [...], "overall": {...}, "paper": {...}, "notes": {...}};
+/// unset is null. "notes" says what the after-snapping counts mean.
 std::string eligibilityJson(const EligibilitySummary& summary);
 
 /// Atomic writers of the forms above.

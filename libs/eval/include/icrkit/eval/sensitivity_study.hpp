@@ -102,6 +102,8 @@ struct SensitivityRow {
   std::string rule;
   std::size_t grasps = 0;
   std::optional<double> raw_eligible_percent, filtered_eligible_percent;
+  /// After snapping to the nearest kept vertex (not the paper's check; JSON only).
+  std::optional<double> filtered_eligible_after_snapping_percent;
   std::optional<double> raw_intersection_percent, raw_false_positive_percent;
   std::optional<double> filtered_intersection_percent, filtered_false_positive_percent;
   std::size_t evaluated = 0;
