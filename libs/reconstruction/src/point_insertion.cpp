@@ -23,6 +23,11 @@ using Eigen::Vector3d;
 // most points of a dense layer onto sides, where they crowd in one
 // dimension; narrower ones only make thinner triangles along the sides.
 constexpr double kEdgeBand = 0.25;
+// Inside points keep this many separations from the face's outline.
+constexpr double kOutlineClearance = 0.1;
+// Attempts at a face's triangulation (each drops one inside point to blame)
+// before it takes its side points only.
+constexpr std::size_t kMaxAttempts = 32;
 
 // A face's own plane: corner 0 at the origin, corner 1 on the first axis,
 // the corners counter-clockwise, as the face is wound about its normal.
@@ -90,7 +95,12 @@ struct EdgePoint {
 // Lawson's flips until every side shared by two triangles is locally
 // Delaunay: the constrained Delaunay triangulation of the face's points,
 // whose outline (the face's sides, split by their points) never flips.
-void flipToDelaunay(const std::vector<Vector2d>& xy, std::vector<std::array<int, 3>>& tris, double scale) {
+// `sides` holds per vertex a bit per face side it lies on (two for a
+// corner): a flip never joins two vertices of one side, since points sit
+// where they really are, a little off the side, and such a chord could
+// also be made by the face on the side's other side (a third face on it).
+void flipToDelaunay(const std::vector<Vector2d>& xy, const std::vector<std::uint8_t>& sides,
+                    std::vector<std::array<int, 3>>& tris, double scale) {
   const double tolerance = 1e-12 * scale * scale * scale * scale;
   auto third = [](const std::array<int, 3>& t, int u, int v) {
     for (int k = 0; k < 3; ++k)
@@ -120,7 +130,7 @@ void flipToDelaunay(const std::vector<Vector2d>& xy, std::vector<std::array<int,
         const Vector2d pu = xy[u] - xy[z], pv = xy[v] - xy[z], pw = xy[w] - xy[z];
         const double det =
             pu.squaredNorm() * cross2(pv, pw) - pv.squaredNorm() * cross2(pu, pw) + pw.squaredNorm() * cross2(pu, pv);
-        if (!(det > tolerance)) continue;
+        if (!(det > tolerance) || (sides[w] & sides[z]) != 0) continue;
         // Only a strictly convex quad (u, z, v, w) can take the other diagonal.
         if (!(orient(xy[u], xy[z], xy[w]) > 0.0 && orient(xy[z], xy[v], xy[w]) > 0.0)) continue;
         tris[a] = {u, z, w};
@@ -292,12 +302,16 @@ PointInsertionReport insertPointsIntoMesh(const std::vector<Vector3d>& positions
     std::vector<std::uint8_t> inside_off(inside[fi].size(), 0);
     std::vector<Vector2d> xy;
     std::vector<int> global;
-    std::vector<long> origin;  // per local vertex: -1 corner, edge point id, or -(2 + inside slot)
+    std::vector<long> origin;                      // per local vertex: -1 corner, edge point id, or -(2 + inside slot)
+    std::vector<std::uint8_t> sides;               // per local vertex: bit k = on side k (corner k: sides k and k - 1)
+    std::vector<std::array<Vector2d, 2>> outline;  // the sides' pieces between their points
     std::vector<std::array<int, 3>> tris;
-    for (;;) {
+    for (std::size_t attempt = 0;; ++attempt) {
       xy.assign(frame.corner.begin(), frame.corner.end());
       global = {f[0], f[1], f[2]};
       origin.assign(3, -1);
+      sides = {0b101, 0b011, 0b110};
+      outline.clear();
       tris = {{0, 1, 2}};
       std::size_t points = 0;
       for (int side = 0; side < 3; ++side) {
@@ -317,12 +331,17 @@ PointInsertionReport insertPointsIntoMesh(const std::vector<Vector3d>& positions
           xy.push_back(frame.project(positions[kept_edge_points[static_cast<std::size_t>(e)].point]));
           global.push_back(static_cast<int>(kept_edge_points[static_cast<std::size_t>(e)].point));
           origin.push_back(e);
+          sides.push_back(static_cast<std::uint8_t>(1u << side));
           std::size_t t = 0;
           int k = 0;
           for (; t < tris.size(); ++t) {
             for (k = 0; k < 3 && !(tris[t][k] == prev && tris[t][(k + 1) % 3] == end); ++k) {
             }
             if (k < 3) break;
+          }
+          if (t == tris.size()) {  // cannot happen (each split keeps prev -> end); never read past the end
+            result.failed_edge_point = e;
+            return result;
           }
           const int w = tris[t][(k + 2) % 3];
           if (!(orient(xy[prev], xy[v], xy[w]) > min_area && orient(xy[v], xy[end], xy[w]) > min_area)) {
@@ -331,17 +350,29 @@ PointInsertionReport insertPointsIntoMesh(const std::vector<Vector3d>& positions
           }
           tris[t] = {prev, v, w};
           tris.push_back({v, end, w});
+          outline.push_back({xy[prev], xy[v]});
           prev = v;
           ++points;
         }
+        outline.push_back({xy[prev], xy[end]});
       }
       std::size_t inserted = 0;
-      for (std::size_t slot = 0; slot < inside[fi].size(); ++slot) {
+      // A face that keeps failing (a dense clump against a folded side)
+      // is bounded in time: after so many attempts it takes no inside point.
+      for (std::size_t slot = 0; slot < inside[fi].size() && attempt < kMaxAttempts; ++slot) {
         if (inside_off[slot]) continue;
         if (points >= params.max_points_per_face) break;
         const Vector2d& x = placement[inside[fi][slot]].xy;
         bool crowded = false;
         for (std::size_t v = 3; v < xy.size() && !crowded; ++v) crowded = (xy[v] - x).norm() < sep;
+        // A side point a little inside the face must not leave a needle
+        // between it, the side and x: x keeps a tenth of a separation from
+        // the outline as it really is.
+        for (std::size_t k = 0; k < outline.size() && !crowded; ++k) {
+          const Vector2d d = outline[k][1] - outline[k][0];
+          const double along = std::clamp((x - outline[k][0]).dot(d) / d.squaredNorm(), 0.0, 1.0);
+          crowded = (outline[k][0] + along * d - x).norm() < kOutlineClearance * sep;
+        }
         if (crowded) continue;
         // The triangle that holds x most deeply; a point on one of its
         // sides (to rounding) would make a flat triangle and stays out.
@@ -361,6 +392,7 @@ PointInsertionReport insertPointsIntoMesh(const std::vector<Vector3d>& positions
         xy.push_back(x);
         global.push_back(static_cast<int>(candidates[inside[fi][slot]]));
         origin.push_back(-2 - static_cast<long>(slot));
+        sides.push_back(0);
         const std::array<int, 3> t = tris[host];
         tris[host] = {t[0], t[1], v};
         tris.push_back({t[1], t[2], v});
@@ -369,7 +401,7 @@ PointInsertionReport insertPointsIntoMesh(const std::vector<Vector3d>& positions
         ++points;
       }
       if (points == 0) return result;
-      flipToDelaunay(xy, tris, scale);
+      flipToDelaunay(xy, sides, tris, scale);
       // The first triangle that is flat in the plane or turned against its
       // points' normals, if any.
       long blamed = -1;

@@ -2,9 +2,11 @@
 // Puts points that took no part in ball pivoting (the noise layer a
 // thinning left out) back into the finished mesh as vertices: each point
 // is projected onto the face nearest along that face's normal and the face
-// is split around it. The mesh keeps its topology (no face crosses another
-// face's edge, boundary loops and components stay as they were), gains the
-// points' density back, and every vertex is still an input point.
+// is split around it. The mesh keeps its topology (each face is split
+// within its own outline, as seen in its plane; boundary loops and
+// components stay as they were), gains the points' density back, and every
+// vertex is still an input point (positions are never moved, so the split
+// faces follow the points up to `max_offset` off the old face's plane).
 
 #include <icrkit/core/triangle_mesh.hpp>
 

@@ -197,3 +197,40 @@ TEST(PointInsertion, DeterministicWhateverTheOrderOfWork) {
   const MeshComponents parts = meshComponents(patch.mesh());
   EXPECT_EQ(parts.count, 1u);
 }
+
+TEST(PointInsertion, PointsAboveARidgeNeverMakeAThirdFaceOnAnEdge) {
+  // A roof: two faces meeting on the ridge 0-1 at a right angle, and noisy
+  // points around the ridge, many a little above it: they fall just
+  // outside both faces' planes, as a noise layer does at a convex edge, and
+  // go onto the ridge where they really are. Many random layers.
+  std::size_t onto_edges = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    Patch patch;
+    patch.add({0, 0, 0});
+    patch.add({1, 0, 0});
+    patch.add({0.5, 0.5, -0.5});
+    patch.add({0.5, -0.5, -0.5});
+    patch.faces.emplace_back(0, 1, 2);  // facing +y and up
+    patch.faces.emplace_back(0, 3, 1);  // facing -y and up
+    std::vector<std::size_t> candidates;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> x(0.02, 0.98), y(-0.02, 0.02), z(-0.004, 0.012);
+    for (int k = 0; k < 200; ++k) {
+      const Vector3d p(x(rng), y(rng), z(rng) - std::abs(y(rng)));
+      candidates.push_back(patch.add(p, Vector3d(0, 0.3 * (p.y() > 0 ? 1 : -1), 1).normalized()));
+    }
+    const PointInsertionReport r =
+        insertPointsIntoMesh(patch.positions, patch.normals, candidates, parameters(0.02, 0.01), patch.faces);
+    onto_edges += r.onto_edges;
+    const EdgeStatistics edges = edgeStatistics(patch.mesh());
+    EXPECT_EQ(edges.non_manifold_edges, 0u) << "seed " << seed;
+    EXPECT_EQ(edges.misoriented_edges, 0u) << "seed " << seed;
+    for (const Triangle& f : patch.faces) {
+      const Vector3d& a = patch.positions[f[0]];
+      const Vector3d n = (patch.positions[f[1]] - a).cross(patch.positions[f[2]] - a);
+      EXPECT_GT(n.dot(patch.normals[f[0]] + patch.normals[f[1]] + patch.normals[f[2]]), 0.0) << "seed " << seed;
+    }
+    EXPECT_EQ(boundaryLoops(patch.mesh()).size(), 1u) << "seed " << seed;
+  }
+  EXPECT_GT(onto_edges, 200u);
+}

@@ -53,8 +53,9 @@ struct BallPivotingParameters {
   /// After the pivoting (and hole filling) over the kept points, the points
   /// the thinning left out are put back as vertices: each goes into the
   /// face it projects onto (within half a thinning cell of its plane, the
-  /// normals agreeing, at least half a median spacing from the vertices
-  /// already there), and that face is split around it (a Delaunay
+  /// normals agreeing, at least 0.35 median spacings from the face's
+  /// corners and from the points already put into it), and that face is
+  /// split around it (a Delaunay
   /// triangulation in its plane, its sides split alike on both faces). The
   /// mesh keeps the thinned mesh's topology (loops, components, no
   /// non-manifold edge) and regains the cloud's density, so regions and
