@@ -7,6 +7,8 @@
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/grasp_regions.hpp>
 
+#include "experiment_test_support.hpp"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -16,37 +18,15 @@
 namespace icrkit::eval {
 namespace {
 
-// An ellipsoid: no symmetry that would make every grasp alike.
-TriangleMesh ellipsoid(int subdivisions) {
-  TriangleMesh mesh = makeIcosphere(subdivisions, 0.04);
-  for (auto& p : mesh.vertices.positions) p = p.cwiseProduct(Eigen::Vector3d(1.4, 1.0, 0.8));
-  computeVertexNormals(mesh);
-  return mesh;
-}
-
-// Vertices pushed along their normals by seeded noise, normals recomputed:
-// what a reconstruction does to a surface, in its simplest form.
-TriangleMesh noisyCopy(const TriangleMesh& mesh, double sigma, unsigned seed) {
-  TriangleMesh copy = mesh;
-  std::mt19937 random(seed);
-  std::normal_distribution<double> gauss(0.0, sigma);
-  for (std::size_t v = 0; v < copy.vertexCount(); ++v)
-    copy.vertices.positions[v] += gauss(random) * copy.vertices.normals[v];
-  computeVertexNormals(copy);
-  return copy;
-}
+using test::ellipsoid;
+using test::noisyCopy;
+using test::recordLines;
 
 ExperimentConfig smallConfig(std::size_t grasps) {
   ExperimentConfig config;
   config.finger_counts = {4, 5};
   config.grasps_per_set = grasps;
   return config;
-}
-
-std::vector<std::string> lines(const std::vector<GraspRecord>& records) {
-  std::vector<std::string> out;
-  for (const GraspRecord& r : records) out.push_back(toJsonLine(r));
-  return out;
 }
 
 TEST(Experiment, IdenticalMeshesGiveTheWholeRegionNoFalsePositivesAndQualityOne) {
@@ -94,9 +74,9 @@ TEST(Experiment, NoiseShrinksTheOverlapAndRecordsAreDeterministic) {
   // Shards in any split, and one thread, give the same records.
   auto first = experiment.run(0, 5), second = experiment.run(5, experiment.itemCount());
   first.insert(first.end(), second.begin(), second.end());
-  EXPECT_EQ(lines(first), lines(all));
+  EXPECT_EQ(recordLines(first), recordLines(all));
   const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
-  EXPECT_EQ(lines(experiment.run(0, experiment.itemCount())), lines(all));
+  EXPECT_EQ(recordLines(experiment.run(0, experiment.itemCount())), recordLines(all));
 }
 
 TEST(Experiment, ExcludedVerticesFailThePreselectionUnlessSwitchedOff) {

@@ -10,6 +10,8 @@
 #include <icrkit/eval/results_tables.hpp>
 #include <icrkit/icr/graspable_object.hpp>
 
+#include "experiment_test_support.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
@@ -22,12 +24,8 @@
 namespace icrkit::eval {
 namespace {
 
-TriangleMesh ellipsoid(int subdivisions) {
-  TriangleMesh mesh = makeIcosphere(subdivisions, 0.04);
-  for (auto& p : mesh.vertices.positions) p = p.cwiseProduct(Eigen::Vector3d(1.4, 1.0, 0.8));
-  computeVertexNormals(mesh);
-  return mesh;
-}
+using test::ellipsoid;
+using test::recordLines;
 
 ExperimentConfig fourFingers(std::size_t grasps) {
   ExperimentConfig config;
@@ -56,12 +54,6 @@ std::pair<int, double> nearestOther(const TriangleMesh& mesh, int from) {
 std::vector<GraspRecord> withoutSnapped(std::vector<GraspRecord> records) {
   for (GraspRecord& r : records) r.filtered.snapped.reset();
   return records;
-}
-
-std::vector<std::string> lines(const std::vector<GraspRecord>& records) {
-  std::vector<std::string> out;
-  for (const GraspRecord& r : records) out.push_back(toJsonLine(r));
-  return out;
 }
 
 // On identical meshes every contact maps onto its own vertex; excluding one
@@ -184,8 +176,8 @@ TEST(ExperimentSnapping, StrictRecordsTablesAndEligibilityAreUnchanged) {
   const std::vector<GraspRecord> strict = DatasetExperiment(meshes, without).run(0, 24);
   ASSERT_EQ(snapped.size(), 24u);
 
-  EXPECT_EQ(lines(withoutSnapped(snapped)), lines(strict));
-  for (const std::string& line : lines(strict)) EXPECT_EQ(line.find("snapped"), std::string::npos);
+  EXPECT_EQ(recordLines(withoutSnapped(snapped)), recordLines(strict));
+  for (const std::string& line : recordLines(strict)) EXPECT_EQ(line.find("snapped"), std::string::npos);
   EXPECT_EQ(tableOneJson(computeTableOne(snapped)), tableOneJson(computeTableOne(strict)));
   for (const std::size_t fingers : {4u, 5u}) {
     const QualityHistogram a = cumulativeQualityHistogram(snapped, fingers);
@@ -216,7 +208,7 @@ TEST(ExperimentSnapping, StrictRecordsTablesAndEligibilityAreUnchanged) {
   EXPECT_EQ(computeEligibility(strict).overall.all.filtered_snapping_not_recorded, computed);
 
   const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
-  EXPECT_EQ(lines(DatasetExperiment(meshes, with).run(0, 24)), lines(snapped));
+  EXPECT_EQ(recordLines(DatasetExperiment(meshes, with).run(0, 24)), recordLines(snapped));
 }
 
 }  // namespace

@@ -12,6 +12,8 @@
 #include <icrkit/eval/mesh_render.hpp>
 #include <icrkit/eval/rigid_alignment.hpp>
 
+#include "experiment_test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -25,6 +27,10 @@
 
 namespace icrkit::eval {
 namespace {
+
+using test::ellipsoid;
+using test::noisyCopy;
+using test::recordLines;
 
 // `clean` with unreferenced vertices inserted before the given indices (past
 // the end: appended), their normals zero, too long or NaN.
@@ -81,23 +87,6 @@ std::vector<int> renumbered(const std::vector<int>& vertices, const std::vector<
   return out;
 }
 
-TriangleMesh ellipsoid(int subdivisions) {
-  TriangleMesh mesh = makeIcosphere(subdivisions, 0.04);
-  for (auto& p : mesh.vertices.positions) p = p.cwiseProduct(Eigen::Vector3d(1.4, 1.0, 0.8));
-  computeVertexNormals(mesh);
-  return mesh;
-}
-
-TriangleMesh noisyCopy(const TriangleMesh& mesh, double sigma, unsigned seed) {
-  TriangleMesh copy = mesh;
-  std::mt19937 random(seed);
-  std::normal_distribution<double> gauss(0.0, sigma);
-  for (std::size_t v = 0; v < copy.vertexCount(); ++v)
-    copy.vertices.positions[v] += gauss(random) * copy.vertices.normals[v];
-  computeVertexNormals(copy);
-  return copy;
-}
-
 // The clean run's records with their vertex indices moved to the strayed
 // meshes' numbering, as JSON lines.
 std::vector<std::string> renumberedLines(std::vector<GraspRecord> records, const StrayMesh& cad, const StrayMesh& raw,
@@ -111,12 +100,6 @@ std::vector<std::string> renumberedLines(std::vector<GraspRecord> records, const
     lines.push_back(toJsonLine(r));
   }
   return lines;
-}
-
-std::vector<std::string> lines(const std::vector<GraspRecord>& records) {
-  std::vector<std::string> out;
-  for (const GraspRecord& r : records) out.push_back(toJsonLine(r));
-  return out;
 }
 
 TEST(UnreferencedVertices, TheExperimentGivesTheCleanMeshesRecords) {
@@ -139,7 +122,7 @@ TEST(UnreferencedVertices, TheExperimentGivesTheCleanMeshesRecords) {
   std::size_t evaluated = 0;
   for (const GraspRecord& r : clean_records) evaluated += r.evaluated;
   EXPECT_GT(evaluated, 0u);
-  EXPECT_EQ(lines(dirty_records), renumberedLines(clean_records, cad_s, raw_s, filtered_s));
+  EXPECT_EQ(recordLines(dirty_records), renumberedLines(clean_records, cad_s, raw_s, filtered_s));
 
   // Renders and reports regrow the regions: free of strays.
   const auto strayFree = [](const std::vector<std::vector<int>>& regions, const StrayMesh& mesh) {
@@ -244,7 +227,7 @@ TEST(UnreferencedVertices, TheStanfordBunnyWithAndWithoutItsStrays) {
     if (new_index[v] >= 0) old_index[static_cast<std::size_t>(new_index[v])] = static_cast<int>(v);
   StrayMesh numbering;
   numbering.new_index = old_index;
-  EXPECT_EQ(lines(records), renumberedLines(clean.run(0, clean.itemCount()), numbering, numbering, numbering));
+  EXPECT_EQ(recordLines(records), renumberedLines(clean.run(0, clean.itemCount()), numbering, numbering, numbering));
   for (const GraspRecord& r : records) EXPECT_TRUE(r.evaluated) << r.raw.reason;
 }
 
