@@ -801,9 +801,7 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
     PointInsertionParameters insertion;
     insertion.max_offset = 0.5 * report.thinning_cell;
     insertion.min_separation = kInsertionSeparation * spacing;
-    const PointInsertionReport inserted =
-        insertPointsIntoMesh(cloud.positions, cloud.normals, thinned, insertion, result.mesh.faces);
-    report.reinserted_points = inserted.inserted;
+    report.reinserted_points = insertPointsIntoMesh(result.mesh, thinned, insertion).inserted;
     // Split sides of holes add boundary edges (loops and the Euler
     // characteristic stay); counted on the final mesh, which also checks
     // that the insertion kept every edge manifold.

@@ -1,6 +1,7 @@
 #include "point_insertion.hpp"
 
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/mesh_topology.hpp>
 
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
@@ -145,31 +146,26 @@ void flipToDelaunay(const std::vector<Vector2d>& xy, const std::vector<std::uint
 
 }  // namespace
 
-PointInsertionReport insertPointsIntoMesh(const std::vector<Vector3d>& positions, const std::vector<Vector3d>& normals,
-                                          const std::vector<std::size_t>& candidates,
-                                          const PointInsertionParameters& params, std::vector<Triangle>& faces) {
+PointInsertionReport insertPointsIntoMesh(TriangleMesh& mesh, const std::vector<std::size_t>& candidates,
+                                          const PointInsertionParameters& params) {
   PointInsertionReport report;
+  const std::vector<Vector3d>& positions = mesh.vertices.positions;
+  const std::vector<Vector3d>& normals = mesh.vertices.normals;
+  std::vector<Triangle>& faces = mesh.faces;
   if (candidates.empty() || faces.empty() || !(params.max_offset > 0.0) || !(params.min_separation > 0.0))
     return report;
   const double sep = params.min_separation;
 
   // The used vertices, for the nearest-vertex queries, and their faces.
-  std::vector<int> used_index(positions.size(), -1);
-  std::vector<Vector3d> used_positions;
+  const std::vector<std::uint8_t> used = referencedVertices(mesh);
   std::vector<int> used_ids;
-  for (const Triangle& f : faces)
-    for (int k = 0; k < 3; ++k)
-      if (used_index[f[k]] < 0) {
-        used_index[f[k]] = static_cast<int>(used_ids.size());
-        used_ids.push_back(f[k]);
-      }
-  std::sort(used_ids.begin(), used_ids.end());
-  for (std::size_t i = 0; i < used_ids.size(); ++i) used_index[used_ids[i]] = static_cast<int>(i);
-  used_positions.reserve(used_ids.size());
-  for (int v : used_ids) used_positions.push_back(positions[v]);
-  std::vector<std::vector<int>> vertex_faces(used_ids.size());
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) vertex_faces[used_index[faces[f][k]]].push_back(static_cast<int>(f));
+  std::vector<Vector3d> used_positions;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) {
+      used_ids.push_back(static_cast<int>(v));
+      used_positions.push_back(positions[v]);
+    }
+  const VertexFaces vertex_faces = vertexFaces(mesh);
 
   std::vector<FaceFrame> frames(faces.size());
   tbb::parallel_for(std::size_t{0}, faces.size(), [&](std::size_t f) { frames[f] = frameOf(positions, faces[f]); });
@@ -203,7 +199,9 @@ PointInsertionReport insertPointsIntoMesh(const std::vector<Vector3d>& positions
     double best_offset = std::numeric_limits<double>::infinity();
     Placement best;
     for (const Neighbour& nb : tree.nearest(p, 8)) {
-      for (int f : vertex_faces[nb.index]) {
+      const auto v = static_cast<std::size_t>(used_ids[nb.index]);
+      for (const int* face = vertex_faces.begin(v); face != vertex_faces.end(v); ++face) {
+        const int f = *face;
         const FaceFrame& frame = frames[f];
         if (!frame.valid || normals[q].dot(frame.normal) <= 0.0) continue;
         const double offset = std::abs((p - frame.origin).dot(frame.normal));

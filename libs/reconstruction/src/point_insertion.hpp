@@ -39,14 +39,12 @@ struct PointInsertionReport {
   std::size_t left_out = 0;    ///< candidates that found no face or were too close to a vertex
 };
 
-/// `faces` (input indices into `positions`, counter-clockwise seen from
-/// the side the normals face) are replaced by the split faces; `candidates`
-/// are indices of points that no face uses yet. Deterministic whatever the
-/// thread count: a face's new triangles follow from its own points alone,
-/// and they take its place in the face order.
-PointInsertionReport insertPointsIntoMesh(const std::vector<Eigen::Vector3d>& positions,
-                                          const std::vector<Eigen::Vector3d>& normals,
-                                          const std::vector<std::size_t>& candidates,
-                                          const PointInsertionParameters& params, std::vector<Triangle>& faces);
+/// The mesh's faces (counter-clockwise seen from the side the vertex
+/// normals face) are replaced by the split faces; `candidates` are indices
+/// of vertices that no face uses yet. Deterministic whatever the thread
+/// count: a face's new triangles follow from its own points alone, and they
+/// take its place in the face order.
+PointInsertionReport insertPointsIntoMesh(TriangleMesh& mesh, const std::vector<std::size_t>& candidates,
+                                          const PointInsertionParameters& params);
 
 }  // namespace icrkit::reconstruction

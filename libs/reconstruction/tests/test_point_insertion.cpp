@@ -28,8 +28,16 @@ struct Patch {
   TriangleMesh mesh() const {
     TriangleMesh m;
     m.vertices.positions = positions;
+    m.vertices.normals = normals;
     m.faces = faces;
     return m;
+  }
+  // Inserts `candidates` and takes the split faces back.
+  PointInsertionReport insert(const std::vector<std::size_t>& candidates, const PointInsertionParameters& params) {
+    TriangleMesh m = mesh();
+    const PointInsertionReport r = insertPointsIntoMesh(m, candidates, params);
+    faces = m.faces;
+    return r;
   }
 };
 
@@ -75,8 +83,7 @@ TEST(PointInsertion, PointsInsideOneFaceSplitItWithoutChangingItsArea) {
     const double x = u(rng), y = u(rng);
     if (x + y < 0.9 && x > 0.1 && y > 0.1) candidates.push_back(patch.add({x, y, h(rng)}));
   }
-  const PointInsertionReport r =
-      insertPointsIntoMesh(patch.positions, patch.normals, candidates, parameters(0.05, 0.01), patch.faces);
+  const PointInsertionReport r = patch.insert(candidates, parameters(0.05, 0.01));
   // 40 random points at least 0.1 from the sides: some may crowd each other.
   EXPECT_GE(r.inserted, 35u);
   EXPECT_EQ(r.inserted + r.left_out, candidates.size());
@@ -98,8 +105,7 @@ TEST(PointInsertion, APointNearASharedEdgeSplitsBothFacesThere) {
   patch.faces.emplace_back(0, 1, 2);
   patch.faces.emplace_back(2, 1, 3);
   const std::size_t near_diagonal = patch.add({0.5 + 0.001, 0.5 + 0.001, 0.002});
-  const PointInsertionReport r =
-      insertPointsIntoMesh(patch.positions, patch.normals, {near_diagonal}, parameters(0.01, 0.02), patch.faces);
+  const PointInsertionReport r = patch.insert({near_diagonal}, parameters(0.01, 0.02));
   EXPECT_EQ(r.inserted, 1u);
   EXPECT_EQ(r.onto_edges, 1u);
   ASSERT_EQ(patch.faces.size(), 4u);
@@ -123,8 +129,7 @@ TEST(PointInsertion, PointsOffThePlaneFacingAwayOrCrowdingAVertexStayOut) {
   const std::size_t at_corner = patch.add({0.005, 0.005, 0.0});
   const std::size_t outside = patch.add({0.8, 0.8, 0.0});
   const std::vector<Triangle> before = patch.faces;
-  const PointInsertionReport r = insertPointsIntoMesh(
-      patch.positions, patch.normals, {too_far, facing_away, at_corner, outside}, parameters(0.05, 0.02), patch.faces);
+  const PointInsertionReport r = patch.insert({too_far, facing_away, at_corner, outside}, parameters(0.05, 0.02));
   EXPECT_EQ(r.inserted, 0u);
   EXPECT_EQ(r.left_out, 4u);
   EXPECT_EQ(patch.faces, before);
@@ -143,8 +148,7 @@ TEST(PointInsertion, TheSplitFaceIsDelaunayInItsPlane) {
   for (int i = 1; i < 10; ++i)
     for (int j = 1; j < 10; ++j)
       if (i + j < 9) candidates.push_back(patch.add({0.1 * i + 0.005, 0.1 * j + 0.005, 0.0}));
-  const PointInsertionReport r =
-      insertPointsIntoMesh(patch.positions, patch.normals, candidates, parameters(0.01, 0.02), patch.faces);
+  const PointInsertionReport r = patch.insert(candidates, parameters(0.01, 0.02));
   EXPECT_EQ(r.inserted, candidates.size());
   expectManifoldAndUpright(patch);
   // Empty circumcircles: no vertex strictly inside any face's circumcircle.
@@ -179,12 +183,11 @@ TEST(PointInsertion, DeterministicWhateverTheOrderOfWork) {
   std::uniform_real_distribution<double> u(0.0, 1.2), h(-0.002, 0.002);
   for (int k = 0; k < 2000; ++k) candidates.push_back(patch.add({u(rng), u(rng), h(rng)}));
   Patch again = patch;
-  const PointInsertionReport r1 =
-      insertPointsIntoMesh(patch.positions, patch.normals, candidates, parameters(0.01, 0.01), patch.faces);
+  const PointInsertionReport r1 = patch.insert(candidates, parameters(0.01, 0.01));
   PointInsertionReport r2;
   {
     const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
-    r2 = insertPointsIntoMesh(again.positions, again.normals, candidates, parameters(0.01, 0.01), again.faces);
+    r2 = again.insert(candidates, parameters(0.01, 0.01));
   }
   EXPECT_EQ(patch.faces, again.faces);
   EXPECT_EQ(r1.inserted, r2.inserted);
@@ -219,8 +222,7 @@ TEST(PointInsertion, PointsAboveARidgeNeverMakeAThirdFaceOnAnEdge) {
       const Vector3d p(x(rng), y(rng), z(rng) - std::abs(y(rng)));
       candidates.push_back(patch.add(p, Vector3d(0, 0.3 * (p.y() > 0 ? 1 : -1), 1).normalized()));
     }
-    const PointInsertionReport r =
-        insertPointsIntoMesh(patch.positions, patch.normals, candidates, parameters(0.02, 0.01), patch.faces);
+    const PointInsertionReport r = patch.insert(candidates, parameters(0.02, 0.01));
     onto_edges += r.onto_edges;
     const EdgeStatistics edges = edgeStatistics(patch.mesh());
     EXPECT_EQ(edges.non_manifold_edges, 0u) << "seed " << seed;
