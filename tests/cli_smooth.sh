@@ -134,7 +134,7 @@ assert abs(d['thresholds']['flatness'] - d['mean_flatness']) < 1e-12
 expect_exit 2 "$ICRKIT" smooth "$plane" -o "$work/x.ply" --preselection mean
 head -c 1000 "$work/nopre.ply" | grep -aq "property int cardinality" || fail "--no-preselect lost 'cardinality'"
 "$ICRKIT" smooth "$plane" -o "$work/out.pcd" -q >/dev/null || fail "smooth to .pcd failed"
-head -c 300 "$work/out.pcd" | grep -aq "^FIELDS .*cardinality flatness displacement excluded" ||
+head -c 300 "$work/out.pcd" | grep -aq "^FIELDS .*cardinality flatness displacement normal_sigma position_sigma excluded" ||
   fail "the .pcd output lacks the attributes"
 "$ICRKIT" smooth "$plane" -o "$work/out.xyz" -q >/dev/null || fail "smooth to .xyz failed"
 [ "$(wc -l <"$work/out.xyz")" -eq 3600 ] || fail "the .xyz output does not hold 3600 points"

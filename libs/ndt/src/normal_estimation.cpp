@@ -2,6 +2,7 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/ndt/fit_uncertainty.hpp>
 #include <icrkit/ndt/normal_orientation.hpp>
 #include <icrkit/ndt/symmetric_eigen3.hpp>
 
@@ -40,6 +41,7 @@ NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimatio
 
   const KdTree tree(cloud.positions);
   std::vector<Eigen::Vector3d> normals(n, Eigen::Vector3d::UnitZ());
+  std::vector<FitUncertainty> uncertainty(n);
   std::atomic<std::size_t> small{0};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
     std::vector<std::size_t> window;
@@ -65,10 +67,20 @@ NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimatio
       const SymmetricEigen3 eigen = eigenSymmetric3(outer * inv - mean * mean.transpose());
       const Eigen::Vector3d v3 = eigen.vectors.col(2);
       if (v3.allFinite() && v3.squaredNorm() > 0) normals[i] = v3.normalized();
+      // The window actually used: the k nearest reach beyond the radius.
+      double reach = summary.radius_m;
+      for (std::size_t j : window) reach = std::max(reach, (cloud.positions[j] - p).norm());
+      uncertainty[i] = planeFitUncertainty(eigen.values, eigen.vectors, window.size(), -mean, reach, FittedPoint::Measured);
     }
   });
   summary.small_windows = small.load();
   cloud.normals = std::move(normals);
+  auto& normal_sigma = cloud.attributes.add(kNormalSigmaAttribute, ScalarType::Float32, n);
+  auto& position_sigma = cloud.attributes.add(kPositionSigmaAttribute, ScalarType::Float32, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    normal_sigma.values[i] = representAs(ScalarType::Float32, uncertainty[i].normal_sigma);
+    position_sigma.values[i] = representAs(ScalarType::Float32, uncertainty[i].position_sigma);
+  }
   if (params.viewpoints.empty()) {
     summary.flipped = orientNormals(cloud, params.viewpoint);
   } else {

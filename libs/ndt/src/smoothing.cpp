@@ -1,5 +1,6 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/ndt/fit_uncertainty.hpp>
 #include <icrkit/ndt/normal_orientation.hpp>
 #include <icrkit/ndt/smoothing.hpp>
 #include <icrkit/ndt/symmetric_eigen3.hpp>
@@ -45,6 +46,7 @@ struct PassOutput {
   std::vector<Eigen::Vector3d> normals;
   std::vector<int> cardinality;
   std::vector<double> flatness;
+  std::vector<FitUncertainty> uncertainty;
   NeighbourGraph graph;  // the nearest points of each window, when asked for
 };
 
@@ -89,6 +91,7 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
   out.normals.assign(n, Eigen::Vector3d::Zero());
   out.cardinality.resize(n);
   out.flatness.assign(n, 0.0);
+  out.uncertainty.assign(n, FitUncertainty{M_PI / 2, radius});
   out.graph.slots = graph_slots;
   out.graph.neighbours.assign(n * graph_slots, n);
   std::atomic<std::size_t> done{0};
@@ -125,6 +128,8 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
       out.positions[i] = p + v3 * mean_offset.dot(v3);  // eq. (1): mu - p = mean_offset
       out.normals[i] = v3;
       out.flatness[i] = flatness(eigen.values, flatness_floor);
+      out.uncertainty[i] =
+          planeFitUncertainty(eigen.values, eigen.vectors, count, -mean_offset, radius, FittedPoint::Projected);
     }
     if (progress) progress(stage, done.fetch_add(range.size()) + range.size(), n);
   });
@@ -149,6 +154,7 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
   const std::vector<Eigen::Vector3d> original = cloud.positions;
   std::vector<int> cardinality;
   std::vector<double> flat;
+  std::vector<FitUncertainty> uncertainty;
   std::vector<Eigen::Vector3d> normals;
   // Without a viewpoint, normals are oriented over a neighbour graph; the
   // last pass's windows hold each point's nearest neighbours already, so the
@@ -163,6 +169,7 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
     if (pass == 0) {
       cardinality = std::move(out.cardinality);
       flat = std::move(out.flatness);
+      uncertainty = std::move(out.uncertainty);
     }
     cloud.positions = std::move(out.positions);
     normals = std::move(out.normals);
@@ -193,12 +200,16 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
   auto& card_attr = cloud.attributes.add("cardinality", ScalarType::Int32, n);
   auto& flat_attr = cloud.attributes.add("flatness", ScalarType::Float32, n);
   auto& disp_attr = cloud.attributes.add("displacement", ScalarType::Float32, n);
+  auto& normal_sigma = cloud.attributes.add(kNormalSigmaAttribute, ScalarType::Float32, n);
+  auto& position_sigma = cloud.attributes.add(kPositionSigmaAttribute, ScalarType::Float32, n);
   for (std::size_t i = 0; i < n; ++i) {
     card_attr.values[i] = cardinality[i];
     // As the file will hold it, so that a preselection re-run from the file
     // (icrkit evaluate --preselection) decides exactly as this one.
     flat_attr.values[i] = representAs(ScalarType::Float32, flat[i]);
     disp_attr.values[i] = displacement[i];
+    normal_sigma.values[i] = representAs(ScalarType::Float32, uncertainty[i].normal_sigma);
+    position_sigma.values[i] = representAs(ScalarType::Float32, uncertainty[i].position_sigma);
   }
   Preselection chosen = preselect(card_attr.values, flat_attr.values, params.preselection);
   summary.preselection = chosen.summary;

@@ -38,7 +38,10 @@ struct NormalEstimationSummary {
   std::size_t flipped = 0;        ///< normals turned by the orientation step
 };
 
-/// Replaces the cloud's normals by estimated unit normals. Throws InputError
+/// Replaces the cloud's normals by estimated unit normals and adds their
+/// uncertainty as the attributes `normal_sigma` (float, radians) and
+/// `position_sigma` (float, metres: the point's own noise along the normal,
+/// since it is not moved; fit_uncertainty.hpp). Throws InputError
 /// for fewer than 3 points, a non-finite coordinate (naming the point) or a
 /// radius that is not positive. Parallel and deterministic.
 NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimationParameters& params = {});

@@ -62,7 +62,11 @@ struct SmoothingSummary {
 
 /// Smooths `cloud` in place and adds the per-point attributes `cardinality`
 /// (int), `flatness` (float), `displacement` (float, metres, total over the
-/// passes), `excluded` (uchar, unless the rule is none) and replaces the normals
+/// passes), `normal_sigma` (float, radians) and `position_sigma` (float,
+/// metres) of the first pass's fit (fit_uncertainty.hpp; later passes refit
+/// points that are no longer measurements, so their residuals would claim a
+/// certainty the data never had), `excluded` (uchar, unless the rule is
+/// none) and replaces the normals
 /// by the v3 estimates of the last pass (a point whose window holds fewer
 /// than 3 points keeps its input normal, or gets none when the cloud had none). Throws InputError for an empty
 /// cloud, a non-finite coordinate (naming the point), r <= 0 or passes < 1.
