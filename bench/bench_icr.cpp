@@ -73,20 +73,30 @@ TriangleMesh largeEllipsoid() {
   return m;
 }
 
-void runIcr(benchmark::State& state, std::shared_ptr<Workload> w, double alpha) {
+// `conservative`: uncertainty-aware growth with fixed bounds (the models have
+// no sigma attributes) of 0.5 deg and 0.2 mm, small enough that regions
+// still grow, so the extra per-vertex work is measured, not smaller regions.
+void runIcr(benchmark::State& state, std::shared_ptr<Workload> w, double alpha, bool conservative = false) {
   tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   IcrParameters params;
   params.alpha = alpha;
-  std::size_t i = 0;
+  if (conservative) {
+    params.conservative = ConservativeGrowth{};
+    params.conservative->normal_angle = 0.5 * M_PI / 180.0;
+    params.conservative->position_offset = 0.0002;
+  }
+  std::size_t i = 0, region_vertices = 0;
   double hull = 0, zones = 0, growth = 0;
   for (auto _ : state) {
     const IcrResult r = computeIndependentContactRegions(*w->object, w->grasps[i++ % w->grasps.size()], params);
     hull += r.timings.hull_ms;
     zones += r.timings.zones_ms;
     growth += r.timings.growth_ms;
+    for (const ContactRegion& region : r.regions) region_vertices += region.vertices.size();
     benchmark::DoNotOptimize(r.regions.data());
   }
   const double n = static_cast<double>(state.iterations());
+  state.counters["region_vertices"] = static_cast<double>(region_vertices) / n;
   state.counters["hull_ms"] = hull / n;
   state.counters["zones_ms"] = zones / n;
   state.counters["growth_ms"] = growth / n;
@@ -113,19 +123,33 @@ LargeWorkload& large() {
   return w;
 }
 
-void BM_IcrLargeMeshLazy(benchmark::State& state) {
+void runLarge(benchmark::State& state, bool conservative) {
   tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   LargeWorkload& w = large();
   IcrParameters params;
-  std::size_t tested = 0, i = 0;
+  if (conservative) {
+    // Per-vertex sigmas as a reconstruction writes them (0.2 deg, 0.1 mm), read
+    // from the attributes like on a real mesh; K = 1.
+    if (!w.mesh.vertices.attributes.has("normal_sigma")) {
+      w.mesh.vertices.attributes.add("normal_sigma", ScalarType::Float32, w.mesh.vertexCount(), 0.2 * M_PI / 180.0);
+      w.mesh.vertices.attributes.add("position_sigma", ScalarType::Float32, w.mesh.vertexCount(), 0.0001);
+    }
+    params.conservative = ConservativeGrowth{};
+  }
+  std::size_t tested = 0, i = 0, region_vertices = 0;
   for (auto _ : state) {
     const IcrResult r = computeIndependentContactRegions(*w.object, w.grasps[i++ % w.grasps.size()], params);
     tested += r.vertices_tested;
+    for (const ContactRegion& region : r.regions) region_vertices += region.vertices.size();
     benchmark::DoNotOptimize(r.regions.data());
   }
   state.counters["vertices"] = static_cast<double>(w.mesh.vertexCount());
   state.counters["vertices_tested"] = static_cast<double>(tested) / static_cast<double>(state.iterations());
+  state.counters["region_vertices"] = static_cast<double>(region_vertices) / static_cast<double>(state.iterations());
 }
+
+void BM_IcrLargeMeshLazy(benchmark::State& state) { runLarge(state, false); }
+void BM_IcrLargeMeshConservative(benchmark::State& state) { runLarge(state, true); }
 
 // The eager alternative: every vertex's wrenches before the hull, then the same ICR.
 void BM_IcrLargeMeshEagerWrenches(benchmark::State& state) {
@@ -148,6 +172,7 @@ void BM_IcrLargeMeshEagerWrenches(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_IcrLargeMeshLazy)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_IcrLargeMeshConservative)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_IcrLargeMeshEagerWrenches)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv) {
@@ -161,6 +186,10 @@ int main(int argc, char** argv) {
       }
       benchmark::RegisterBenchmark(("BM_Icr/" + std::string(model) + "/fingers:" + std::to_string(fingers)).c_str(),
                                    [w, fingers](benchmark::State& s) { runIcr(s, w, fingers == 4 ? 0.5 : 0.8); })
+          ->Unit(benchmark::kMillisecond);
+      benchmark::RegisterBenchmark(
+          ("BM_IcrConservative/" + std::string(model) + "/fingers:" + std::to_string(fingers)).c_str(),
+          [w, fingers](benchmark::State& s) { runIcr(s, w, fingers == 4 ? 0.5 : 0.8, true); })
           ->Unit(benchmark::kMillisecond);
     }
   benchmark::Initialize(&argc, argv);

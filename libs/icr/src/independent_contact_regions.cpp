@@ -34,36 +34,56 @@ void checkContacts(const GraspableObject& object, const std::vector<int>& contac
   }
 }
 
-// The wrenches of each vertex, computed the first time a finger tests it and
-// kept for the other fingers.
+// The conservative test's pieces, shared by every vertex of one grasp.
+struct ConservativeTest {
+  const ContactModel& model;
+  const UncertaintyBounds& bounds;
+};
+
+// The wrenches of each vertex (and, under conservative growth, the margin
+// they must keep), computed the first time a finger tests it and kept for
+// the other fingers.
 class LazyVertexWrenches {
 public:
-  LazyVertexWrenches(const GraspableObject& object, const ContactWrenches& generator)
-      : object_(object), generator_(generator), slot_(object.vertexCount(), -1) {}
+  LazyVertexWrenches(const GraspableObject& object, const ContactWrenches& generator,
+                     const ConservativeTest* conservative)
+      : object_(object), generator_(generator), conservative_(conservative), slot_(object.vertexCount(), -1) {}
 
-  const WrenchSet& of(int vertex) {
-    int& slot = slot_[static_cast<std::size_t>(vertex)];
-    if (slot < 0) {
-      slot = static_cast<int>(cache_.size());
-      cache_.push_back(generator_.compute(object_.position(static_cast<std::size_t>(vertex)),
-                                          object_.normal(static_cast<std::size_t>(vertex))));
-    }
-    return cache_[static_cast<std::size_t>(slot)];
-  }
+  const WrenchSet& of(int vertex) { return cache_[slotOf(vertex)]; }
+  double required(int vertex) { return required_[slotOf(vertex)]; }
   std::size_t computed() const { return cache_.size(); }
 
 private:
+  std::size_t slotOf(int vertex) {
+    const std::size_t v = static_cast<std::size_t>(vertex);
+    int& slot = slot_[v];
+    if (slot < 0) {
+      slot = static_cast<int>(cache_.size());
+      const double required =
+          conservative_ ? wrenchUncertainty(conservative_->model, object_.frame(), object_.position(v),
+                                            conservative_->bounds.angle(v), conservative_->bounds.offset(v))
+                        : 0.0;
+      cache_.push_back(generator_.compute(object_.position(v), object_.normal(v)));
+      required_.push_back(required);
+    }
+    return static_cast<std::size_t>(slot);
+  }
+
   const GraspableObject& object_;
   const ContactWrenches& generator_;
+  const ConservativeTest* conservative_;
   std::vector<int> slot_;
   std::deque<WrenchSet> cache_;  // a deque: references stay valid as it grows
+  std::vector<double> required_;
 };
 
+// `contact_always`: the prototype contact is in its region by definition
+// (plain growth), or only when it qualifies (conservative growth).
 std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, std::size_t finger,
-                                  LazyVertexWrenches& wrenches, ZoneTester& tester) {
+                                  LazyVertexWrenches& wrenches, ZoneTester& tester, bool contact_always) {
   const VertexAdjacency& adjacency = object.adjacency();
   std::vector<std::uint8_t> visited(object.vertexCount(), 0);
-  std::vector<int> region{contact};
+  std::vector<int> region;
   // Each queued vertex qualified; its evidence (which wrench held each zone,
   // with what slack) lets its neighbours skip most facet tests.
   const std::size_t zones = tester.zoneCount(finger);
@@ -87,8 +107,11 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
     const long slot = newEvidence();
     const bool passes = tester.qualifies(finger, wrenches.of(contact), nullptr,
                                          evidence_wrench.data() + slot * static_cast<long>(zones),
-                                         evidence_slack.data() + slot * static_cast<long>(zones));
+                                         evidence_slack.data() + slot * static_cast<long>(zones),
+                                         wrenches.required(contact));
     if (!passes) dropLastEvidence();
+    if (passes || contact_always) region.push_back(contact);
+    // A contact that fails still seeds the search: its neighbours may keep the guarantee.
     queue.emplace_back(contact, passes ? slot : -1);
   }
   visited[static_cast<std::size_t>(contact)] = 1;
@@ -111,7 +134,7 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
       }
       if (!tester.qualifies(finger, u_wrenches, v_slot >= 0 ? &neighbour : nullptr,
                             evidence_wrench.data() + slot * static_cast<long>(zones),
-                            evidence_slack.data() + slot * static_cast<long>(zones))) {
+                            evidence_slack.data() + slot * static_cast<long>(zones), wrenches.required(u))) {
         dropLastEvidence();  // the newest slot: nobody refers to it
         continue;
       }
@@ -124,15 +147,16 @@ std::vector<int> growBreadthFirst(const GraspableObject& object, int contact, st
 }
 
 std::vector<int> testEveryVertex(const GraspableObject& object, int contact, std::size_t finger,
-                                 LazyVertexWrenches& wrenches, ZoneTester& tester) {
+                                 LazyVertexWrenches& wrenches, ZoneTester& tester, bool contact_always) {
   std::vector<int> region;
   for (std::size_t v = 0; v < object.vertexCount(); ++v) {
-    if (static_cast<int>(v) == contact) {
+    const int vertex = static_cast<int>(v);
+    if (vertex == contact && contact_always) {
       region.push_back(contact);
       continue;
     }
     if (!object.eligible(v)) continue;
-    if (tester.qualifies(finger, wrenches.of(static_cast<int>(v)))) region.push_back(static_cast<int>(v));
+    if (tester.qualifies(finger, wrenches.of(vertex), wrenches.required(vertex))) region.push_back(vertex);
   }
   return region;
 }
@@ -179,16 +203,24 @@ IcrResult computeIndependentContactRegions(const GraspableObject& object, const 
   result.timings.zones_ms = millisecondsSince(phase);
 
   phase = Clock::now();
-  LazyVertexWrenches wrenches(object, generator);
+  std::optional<UncertaintyBounds> bounds;
+  std::optional<ConservativeTest> conservative;
+  if (params.conservative) {
+    bounds.emplace(object.mesh(), *params.conservative);
+    conservative.emplace(ConservativeTest{params.contact_model, *bounds});
+  }
+  const bool contact_always = !params.conservative;
+  LazyVertexWrenches wrenches(object, generator, conservative ? &*conservative : nullptr);
   ZoneTester tester(zones);
   for (std::size_t finger = 0; finger < contacts.size(); ++finger) {
     ContactRegion region;
     region.finger = finger;
     region.contact = contacts[finger];
     region.vertices = params.mode == GrowthMode::BreadthFirst
-                          ? growBreadthFirst(object, contacts[finger], finger, wrenches, tester)
-                          : testEveryVertex(object, contacts[finger], finger, wrenches, tester);
+                          ? growBreadthFirst(object, contacts[finger], finger, wrenches, tester, contact_always)
+                          : testEveryVertex(object, contacts[finger], finger, wrenches, tester, contact_always);
     region.area_m2 = regionArea(object.mesh(), region.vertices);
+    region.recommended = recommendedContact(object, region.vertices);
     result.regions.push_back(std::move(region));
   }
   result.vertices_tested = wrenches.computed();

@@ -8,6 +8,13 @@ namespace icrkit::icr {
 
 SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpace& tws, std::size_t finger_count,
                                std::size_t wrenches_per_contact) {
+  std::vector<int> finger_of_wrench(finger_count * wrenches_per_contact);
+  for (std::size_t k = 0; k < finger_of_wrench.size(); ++k) finger_of_wrench[k] = static_cast<int>(k / wrenches_per_contact);
+  return computeSearchZones(gws, tws, finger_count, finger_of_wrench);
+}
+
+SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpace& tws, std::size_t finger_count,
+                               const std::vector<int>& finger_of_wrench) {
   SearchZones zones;
   zones.normals = gws.normals;
   const std::size_t facet_count = gws.facetCount();
@@ -16,9 +23,10 @@ SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpac
     zones.thresholds[f] = tws.support(gws.normals.col(static_cast<Eigen::Index>(f)));
 
   // Hull vertex -> incident facets, by inverting the facet -> vertex lists.
-  std::vector<std::vector<int>> incident(finger_count * wrenches_per_contact);
+  std::vector<std::vector<int>> incident(finger_of_wrench.size());
   for (std::size_t f = 0; f < facet_count; ++f)
-    for (int v : gws.facet_vertices[f]) incident[static_cast<std::size_t>(v)].push_back(static_cast<int>(f));
+    for (int v : gws.facet_vertices[f])
+      if (static_cast<std::size_t>(v) < incident.size()) incident[static_cast<std::size_t>(v)].push_back(static_cast<int>(f));
 
   zones.by_finger.assign(finger_count, {});
   zones.finger_facets.assign(finger_count, {});
@@ -26,13 +34,15 @@ SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpac
   // marks keep the lists ascending without sorting.
   std::vector<std::uint8_t> used_by(facet_count * finger_count, 0);
   for (int v : gws.hull_vertices) {
-    const std::size_t finger = static_cast<std::size_t>(v) / wrenches_per_contact;
-    if (finger >= finger_count || incident[static_cast<std::size_t>(v)].empty()) continue;
+    if (static_cast<std::size_t>(v) >= finger_of_wrench.size()) continue;
+    const int finger = finger_of_wrench[static_cast<std::size_t>(v)];
+    if (finger < 0 || static_cast<std::size_t>(finger) >= finger_count || incident[static_cast<std::size_t>(v)].empty())
+      continue;
     SearchZone zone;
     zone.hull_vertex = v;
     zone.facets = std::move(incident[static_cast<std::size_t>(v)]);
-    for (int f : zone.facets) used_by[static_cast<std::size_t>(f) * finger_count + finger] = 1;
-    zones.by_finger[finger].push_back(std::move(zone));
+    for (int f : zone.facets) used_by[static_cast<std::size_t>(f) * finger_count + static_cast<std::size_t>(finger)] = 1;
+    zones.by_finger[static_cast<std::size_t>(finger)].push_back(std::move(zone));
   }
   for (std::size_t f = 0; f < facet_count; ++f)
     for (std::size_t finger = 0; finger < finger_count; ++finger)
@@ -63,7 +73,7 @@ ZoneTester::ZoneTester(const SearchZones& zones) {
 }
 
 bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches,
-                       double* slack) {
+                       double required, double* slack) {
   std::vector<int>& rows = local.zone_rows[zone];
   const double* w = wrenches.data() + 6 * wrench;
   const double* normals = local.normals.data();
@@ -74,7 +84,7 @@ bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrenc
     const double* n = normals + 6 * r;
     const double margin =
         n[0] * w[0] + n[1] * w[1] + n[2] * w[2] + n[3] * w[3] + n[4] * w[4] + n[5] * w[5] - thresholds[r];
-    if (margin < 0.0) {
+    if (margin < required) {
       if (k > 0) std::swap(rows[k], rows[0]);
       return false;
     }
@@ -85,11 +95,15 @@ bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrenc
 }
 
 bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches) {
-  return qualifies(finger, wrenches, nullptr, nullptr, nullptr);
+  return qualifies(finger, wrenches, nullptr, nullptr, nullptr, 0.0);
+}
+
+bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, double required) {
+  return qualifies(finger, wrenches, nullptr, nullptr, nullptr, required);
 }
 
 bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, const Evidence* neighbour,
-                           Eigen::Index* wrench_out, double* slack_out) {
+                           Eigen::Index* wrench_out, double* slack_out, double required) {
   FingerFacets& local = fingers_[finger];
   const Eigen::Index n = wrenches.cols();
   const bool comparable = neighbour && neighbour->wrenches && neighbour->wrenches->cols() == n;
@@ -101,7 +115,7 @@ bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, const 
       const Eigen::Index w = neighbour->wrench[z];
       const double moved = (wrenches.col(w) - neighbour->wrenches->col(w)).norm();
       const double left = neighbour->slack[z] - moved - margin;
-      if (left > 0.0) {
+      if (left > required) {
         ++zones_on_evidence_;
         if (wrench_out) {
           wrench_out[z] = w;
@@ -112,10 +126,10 @@ bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, const 
     }
     const Eigen::Index first = local.last_wrench[z] < n ? local.last_wrench[z] : 0;
     double slack = 0.0;
-    Eigen::Index held = holds(local, z, first, wrenches, &slack) ? first : -1;
+    Eigen::Index held = holds(local, z, first, wrenches, required, &slack) ? first : -1;
     for (Eigen::Index w = 0; w < n && held < 0; ++w) {
       if (w == first) continue;
-      if (holds(local, z, w, wrenches, &slack)) {
+      if (holds(local, z, w, wrenches, required, &slack)) {
         held = w;
         local.last_wrench[z] = w;
       }

@@ -37,6 +37,9 @@ public:
   const std::vector<std::uint8_t>& exclusionMask() const { return excluded_; }
   /// Whether some face uses the vertex (referencedVertices()).
   bool referenced(std::size_t vertex) const { return referenced_[vertex] != 0; }
+  /// Whether the vertex lies on an edge that only one face uses (the rim of
+  /// a hole or of the seen surface).
+  bool onMeshBoundary(std::size_t vertex) const { return boundary_[vertex] != 0; }
   /// Vertices no face uses.
   std::size_t unreferencedCount() const { return unreferenced_; }
   /// Whether the vertex may be a contact or join a region: on the surface
@@ -52,6 +55,7 @@ private:
   WrenchFrame frame_;
   std::vector<std::uint8_t> excluded_;
   std::vector<std::uint8_t> referenced_;
+  std::vector<std::uint8_t> boundary_;
   std::size_t unreferenced_ = 0;
 };
 

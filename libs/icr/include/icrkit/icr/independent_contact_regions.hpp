@@ -4,7 +4,9 @@
 /// prototype grasp, one region per finger such that any choice of one vertex
 /// per region is a grasp whose GWS contains the TWS.
 
+#include <icrkit/icr/conservative_growth.hpp>
 #include <icrkit/icr/graspable_object.hpp>
+#include <icrkit/icr/recommended_contact.hpp>
 #include <icrkit/icr/grasp_wrench_space.hpp>
 #include <icrkit/icr/task_wrench_space.hpp>
 
@@ -27,13 +29,19 @@ struct IcrParameters {
   std::optional<WrenchSet> tws_wrenches;
   GrowthMode mode = GrowthMode::BreadthFirst;
   HullParameters hull;
+  /// When set, regions hold only vertices that keep the guarantee for every
+  /// normal and position within their uncertainty bounds
+  /// (conservative_growth.hpp); the prototype contact then joins its
+  /// region only if it qualifies too, so a region may be empty.
+  std::optional<ConservativeGrowth> conservative;
 };
 
 struct ContactRegion {
   std::size_t finger = 0;
   int contact = -1;              ///< the prototype contact vertex
-  std::vector<int> vertices;     ///< sorted ascending
+  std::vector<int> vertices;     ///< sorted ascending; holds `contact` except under conservative growth
   double area_m2 = 0.0;          ///< A(C_n): triangles whose three vertices are all in the region
+  RecommendedContact recommended;  ///< where to aim the finger (recommended_contact.hpp)
 };
 
 struct IcrTimings {

@@ -27,6 +27,12 @@ struct SearchZones {
 SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpace& tws, std::size_t finger_count,
                                std::size_t wrenches_per_contact);
 
+/// The same, for fingers that contribute different numbers of wrenches
+/// (patch contacts): wrench k belongs to finger `finger_of_wrench[k]`
+/// (< finger_count), one entry per wrench the hull was built from.
+SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpace& tws, std::size_t finger_count,
+                               const std::vector<int>& finger_of_wrench);
+
 /// Tests candidate contacts against the zones, stopping at the first facet
 /// that rejects a wrench, so a candidate that fails its first zone costs a
 /// handful of dot products. (Remembering products shared by zones of one
@@ -39,6 +45,10 @@ public:
 
   /// True when every zone of `finger` holds at least one column of `wrenches`.
   bool qualifies(std::size_t finger, const WrenchSet& wrenches);
+  /// The same with every facet's threshold raised by `required` >= 0: the
+  /// held wrench lies at least that far beyond each facet of the zone
+  /// (conservative growth, conservative_growth.hpp).
+  bool qualifies(std::size_t finger, const WrenchSet& wrenches, double required);
 
   /// Why a candidate that qualified passed each zone of its finger: per
   /// zone, the wrench (column) that held it and a lower bound on that
@@ -58,8 +68,10 @@ public:
   /// vertices' wrenches differ little and most zone tests end there. When
   /// the candidate qualifies, its own evidence is written to
   /// `wrench_out` / `slack_out` (zoneCount(finger) entries each).
+  /// Evidence slacks are raw margins (before `required` is taken off), so
+  /// neighbours with different requirements share them.
   bool qualifies(std::size_t finger, const WrenchSet& wrenches, const Evidence* neighbour, Eigen::Index* wrench_out,
-                 double* slack_out);
+                 double* slack_out, double required = 0.0);
   /// How many zone tests a neighbour's evidence settled so far.
   std::size_t zonesOnEvidence() const { return zones_on_evidence_; }
 
@@ -76,7 +88,7 @@ private:
     std::vector<Eigen::Index> last_wrench;
   };
   // With `slack`, a wrench that holds the zone gets its smallest margin there.
-  bool holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches,
+  bool holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches, double required,
              double* slack = nullptr);
 
   std::vector<FingerFacets> fingers_;
