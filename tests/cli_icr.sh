@@ -68,6 +68,41 @@ cmp -s "$work/icr.json" "${out%.ply}.json" || fail "${out%.ply}.json differs fro
 head -c 2000 "$out" | grep -aq "property int region" || fail "$out has no int 'region' vertex property"
 head -c 2000 "$out" | grep -aq "property uchar red" || fail "$out has no vertex colours"
 "$ICRKIT" info "$out" --json | json_field "['attributes']" | grep -q "region" || fail "icrkit info does not see 'region'"
+# recommended contacts: in the JSON (a region vertex) and marked in the PLY
+py "
+import json
+d = json.load(open('$work/icr.json'))
+for r in d['regions']:
+    rec = r['recommended']
+    assert rec['vertex'] in r['vertices'] and rec['depth_m'] >= 0, r
+assert d['conservative'] is None and d['patch'] is None
+" || fail "icr summary: recommended contacts missing or outside their regions"
+head -c 2000 "$out" | grep -aq "property int recommended" || fail "$out has no int 'recommended' vertex property"
+
+# conservative growth: fixed bounds on a mesh without sigmas; refused clearly
+# without them, for K < 0 and for a patch radius <= 0
+"$ICRKIT" icr "$ico_obj" --compute-normals --contacts "$contacts" --normal-uncertainty 0.005 --position-uncertainty 0.0001 \
+  -o "$work/cons.ply" --json >"$work/cons.json" 2>"$work/err" || fail "icr with fixed uncertainty bounds failed: $(cat "$work/err")"
+py "
+import json
+plain = json.load(open('$work/icr.json'))
+cons = json.load(open('$work/cons.json'))
+assert cons['conservative'] == {'sigmas': 1.0, 'normal_uncertainty_rad': 0.005, 'position_uncertainty_m': 0.0001}, cons['conservative']
+for p, c in zip(plain['regions'], cons['regions']):
+    assert set(c['vertices']) <= set(p['vertices']), (len(p['vertices']), len(c['vertices']))
+assert sum(len(c['vertices']) for c in cons['regions']) < sum(len(p['vertices']) for p in plain['regions'])
+" || fail "conservative regions are not smaller subsets of the plain ones"
+expect_input_error "normal_sigma and position_sigma" "$ICRKIT" icr "$ico_obj" --compute-normals --contacts "$contacts" \
+  --conservative -o "$work/x.ply"
+expect_input_error "--conservative.*>= 0" "$ICRKIT" icr "$ico_obj" --compute-normals --contacts "$contacts" \
+  --conservative=-1 --normal-uncertainty 0.01 --position-uncertainty 0.0001 -o "$work/x.ply"
+expect_input_error "--patch-radius.*> 0" "$ICRKIT" icr "$ico_obj" --compute-normals --contacts "$contacts" \
+  --patch-radius 0 -o "$work/x.ply"
+[ ! -e "$work/x.ply" ] || fail "a refused icr left an output behind"
+"$ICRKIT" icr "$ico_obj" --compute-normals --contacts "$contacts" --patch-radius 0.012 -o "$work/patch.ply" --json \
+  >"$work/patch.json" 2>"$work/err" || fail "icr --patch-radius failed: $(cat "$work/err")"
+json_field "['patch']['radius_m']" <"$work/patch.json" | grep -q "0.012" || fail "icr --patch-radius: no patch in the summary"
+
 # human output: one line per finger
 "$ICRKIT" icr "$ico_obj" --compute-normals --contacts "$contacts" -o "$out" >"$work/human" 2>&1 ||
   fail "icr without --json failed"

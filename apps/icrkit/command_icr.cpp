@@ -4,6 +4,7 @@
 
 #include "argument_parsing.hpp"
 #include "commands.hpp"
+#include "conservative_options.hpp"
 #include "contact_model_options.hpp"
 
 #include <icrkit/core/io/geometry_io.hpp>
@@ -11,6 +12,7 @@
 #include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/icr/graspable_object.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
+#include <icrkit/icr/patch_contacts.hpp>
 
 #include <algorithm>
 #include <array>
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -34,6 +37,9 @@ struct IcrOptions {
   double alpha = 0.5;
   double tws_radius = 0.0;
   icr::GrowthMode mode = icr::GrowthMode::BreadthFirst;
+  ConservativeOptions conservative;
+  std::optional<double> patch_radius;
+  bool patch_all_points = false;
   std::string output;
 };
 
@@ -49,6 +55,7 @@ constexpr std::array<Color, 9> kPalette{{{31, 119, 180},
                                          {188, 189, 34},
                                          {23, 190, 207}}};
 constexpr Color kNoRegion{190, 190, 190};
+constexpr Color kRecommended{0, 0, 0};
 
 std::vector<int> parseContactIndices(const std::string& text) {
   std::vector<int> contacts;
@@ -98,6 +105,14 @@ TriangleMesh regionMesh(const TriangleMesh& mesh, const icr::IcrResult& result) 
   for (std::size_t v = 0; v < region.size(); ++v)
     if (region[v] >= 0) out.vertices.colors[v] = kPalette[static_cast<std::size_t>(region[v]) % kPalette.size()];
   out.vertices.attributes.add("region", ScalarType::Int32, std::move(region));
+  // The marker: where each finger should aim, black, with its finger index.
+  std::vector<double> recommended(mesh.vertexCount(), -1.0);
+  for (auto it = result.regions.rbegin(); it != result.regions.rend(); ++it)
+    if (it->recommended.vertex >= 0) {
+      recommended[static_cast<std::size_t>(it->recommended.vertex)] = static_cast<double>(it->finger);
+      out.vertices.colors[static_cast<std::size_t>(it->recommended.vertex)] = kRecommended;
+    }
+  out.vertices.attributes.add("recommended", ScalarType::Int32, std::move(recommended));
   return out;
 }
 
@@ -111,7 +126,8 @@ void printHumanSummary(const nlohmann::json& summary) {
   for (const auto& region : summary["regions"])
     std::cout << "finger " << region["finger"].get<std::size_t>() << ": contact " << region["contact"].get<int>()
               << ", " << region["vertices"].size() << " vertices, area " << region["area_m2"].get<double>()
-              << " m2\n";
+              << " m2, aim at " << region["recommended"]["vertex"].get<int>() << " (depth "
+              << region["recommended"]["depth_m"].get<double>() << " m)\n";
   const auto& time = summary["time_ms"];
   std::cout << "time_ms: " << time["total"].get<double>() << " (hull " << time["hull"].get<double>() << ", zones "
             << time["zones"].get<double>() << ", growth " << time["growth"].get<double>() << ")\n"
@@ -160,13 +176,31 @@ void run(const IcrOptions& options, CommandContext& context) {
   params.alpha = options.alpha;
   params.tws_radius = options.tws_radius;
   params.mode = options.mode;
+  params.conservative = options.conservative.growth();
+  std::optional<icr::PatchParameters> patch;
+  if (options.patch_radius) {
+    patch.emplace();
+    patch->radius_m = *options.patch_radius;
+    patch->filter_border = !options.patch_all_points;
+    if (!(patch->radius_m > 0) || !std::isfinite(patch->radius_m))
+      throw InputError("--patch-radius", "", "expected a radius > 0 in metres, got " + std::to_string(patch->radius_m));
+    if (params.conservative)
+      throw InputError("--patch-radius", "", "patch contacts cannot be combined with --conservative yet");
+  } else if (options.patch_all_points) {
+    throw InputError("--patch-all-points", "", "only with --patch-radius");
+  }
   icr::IcrResult result;
   std::size_t unreferenced = 0;
   try {
     const icr::GraspableObject object =
         icr::GraspableObject::withDefaultFrame(input.mesh, input.excluded, options.mesh.torque_reference);
     unreferenced = object.unreferencedCount();
-    result = icr::computeIndependentContactRegions(object, contacts, params);
+    if (patch) {
+      const icr::ContactPatches patches(object, *patch);
+      result = icr::computePatchContactRegions(object, patches, contacts, params);
+    } else {
+      result = icr::computeIndependentContactRegions(object, contacts, params);
+    }
   } catch (const InputError& error) {
     throw namingMesh(path, error);
   }
@@ -177,7 +211,8 @@ void run(const IcrOptions& options, CommandContext& context) {
     regions.push_back({{"finger", region.finger},
                        {"contact", region.contact},
                        {"vertices", region.vertices},
-                       {"area_m2", region.area_m2}});
+                       {"area_m2", region.area_m2},
+                       {"recommended", {{"vertex", region.recommended.vertex}, {"depth_m", region.recommended.depth_m}}}});
   nlohmann::json summary{
       {"epsilon", result.epsilon},
       {"lambda_m", result.lambda_m},
@@ -188,6 +223,9 @@ void run(const IcrOptions& options, CommandContext& context) {
       {"model", contactModelJson(params.contact_model)},
       {"alpha", options.tws_radius > 0 ? nlohmann::json(nullptr) : nlohmann::json(options.alpha)},
       {"mode", options.mode == icr::GrowthMode::BreadthFirst ? "bfs" : "full"},
+      {"conservative", conservativeJson(params.conservative)},
+      {"patch", patch ? nlohmann::json{{"rule", "sphere"}, {"radius_m", patch->radius_m}, {"filter_border", patch->filter_border}}
+                      : nlohmann::json(nullptr)},
       {"torque_reference", torqueReferenceName(options.mesh.torque_reference)},
       {"normals", input.normals_computed ? "computed" : "file"},
       {"exclusion", input.exclusion_source},
@@ -222,7 +260,8 @@ void addIcrCommand(CLI::App& app, CommandRunner& runner) {
       "icr",
       "Independent Contact Regions of a force-closure grasp. Writes OUT (.ply: one colour per region, grey "
       "outside, int vertex property `region` = finger index or -1; a vertex in several regions gets the lowest "
-      "finger index) and the JSON summary next to it (OUT with .json)");
+      "finger index; each region's recommended contact, its deepest vertex, black with int property "
+      "`recommended` = finger index, -1 elsewhere) and the JSON summary next to it (OUT with .json)");
   auto options = std::make_shared<IcrOptions>();
   options->mesh.addTo(*command);
   auto* contacts = command->add_option("--contacts", options->contacts, "Prototype grasp: vertex indices i,j,k,...");
@@ -255,6 +294,13 @@ void addIcrCommand(CLI::App& app, CommandRunner& runner) {
           },
           "Region growth: bfs (over mesh neighbours from each contact) or full (test every vertex); default bfs")
       ->check(CLI::IsMember({"bfs", "full"}));
+  options->conservative.addTo(*command);
+  command->add_option("--patch-radius", options->patch_radius,
+                      "Multi-point (patch) contacts of the reference ICR library: each contact is the connected piece "
+                      "of the mesh within this distance (metres) of its vertex, every point at full strength "
+                      "(docs/icr.md: epsilon and regions then grow with the mesh density)");
+  command->add_flag("--patch-all-points", options->patch_all_points,
+                    "Keep every point of a patch (default: its centre and border points, as the reference library)");
   command->add_option("-o,--output", options->output, "Output .ply (the summary goes to the same name with .json)")
       ->required();
   command->callback([&runner, options] { runner = [options](CommandContext& context) { run(*options, context); }; });

@@ -58,6 +58,13 @@ void ExperimentOptions::addTo(CLI::App& command, bool with_preselection) {
       ->capture_default_str();
   command.add_option("--shard", shard, "Run shard i of N (0-based) of the work; combine with `icrkit merge`")
       ->capture_default_str();
+  command
+      .add_option_function<std::string>(
+          "--conservative", [this](const std::string& value) { conservative = value; },
+          "Also grow uncertainty-aware regions on the raw and filtered meshes with K (default 1) or each K of a "
+          "comma-separated list (a curve), beside the plain ones: conservative.{json,md,svg}. The meshes need "
+          "the normal_sigma and position_sigma vertex attributes. Write --conservative=K before a positional")
+      ->expected(0, 1);
 }
 
 eval::Shard ExperimentOptions::parsedShard() const {
@@ -103,6 +110,15 @@ eval::ExperimentConfig ExperimentOptions::config() const {
     throw InputError("--neighbourhood-radius", "", "expected metres >= 0 (0: automatic)");
   config.mapping.neighbourhood_radius = neighbourhood_radius;
   config.preselection = preselectionName() != "none";
+  if (conservative) {
+    const std::vector<std::string> items = conservative->empty() ? std::vector<std::string>{"1"} : split(*conservative, ',');
+    for (const std::string& text : items) {
+      double k = 0;
+      if (!parseNumber(text, k) || !(k >= 0) || !std::isfinite(k))
+        throw InputError("--conservative", "", "expected K >= 0 or a comma-separated list of them, got '" + *conservative + "'");
+      config.conservative_sigmas.push_back(k);
+    }
+  }
   if (align != "none" && align != "icp") throw InputError("--align", "", "expected none or icp, got '" + align + "'");
   try {
     config.validate();
@@ -139,6 +155,7 @@ nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {
           {"max_line_distance_m", config.mapping.max_line_distance},
           {"neighbourhood_radius_m", config.mapping.neighbourhood_radius},
           {"preselection", config.preselection},
+          {"conservative_sigmas", config.conservative_sigmas},
           {"wrench_frame", "CAD mesh centroid, lambda = largest CAD vertex distance from it"}};
 }
 
@@ -161,6 +178,8 @@ eval::ExperimentConfig experimentConfigFromJson(const nlohmann::json& config) {
   out.mapping.max_line_distance = config.value("max_line_distance_m", out.mapping.max_line_distance);
   out.mapping.neighbourhood_radius = config.value("neighbourhood_radius_m", out.mapping.neighbourhood_radius);
   out.preselection = config.value("preselection", out.preselection);
+  if (config.contains("conservative_sigmas"))
+    out.conservative_sigmas = config.at("conservative_sigmas").get<std::vector<double>>();
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,8 @@ struct ExperimentOptions {
   /// and flatness attributes.
   std::string preselection = "file";
   std::string align = "none";
+  /// --conservative [K,K,...]: "" for a bare flag (K = 1), unset without it.
+  std::optional<std::string> conservative;
   int renders = 1;
 
   /// `with_preselection` false: the command has its own --preselection.

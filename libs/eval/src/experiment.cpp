@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
+#include <random>
 #include <set>
 #include <string>
 #include <utility>
@@ -67,6 +68,9 @@ void ExperimentConfig::validate() const {
   if (grasps_per_set < 1) throw InputError(kSource, "grasps per set", "expected at least 1");
   if (!(alpha > 0.0 && alpha <= 1.0))
     throw InputError(kSource, "alpha", "expected 0 < alpha <= 1, got " + std::to_string(alpha));
+  for (const double k : conservative_sigmas)
+    if (!(k >= 0) || !std::isfinite(k))
+      throw InputError(kSource, "conservative K", "expected K >= 0, got " + std::to_string(k));
   contactModel().validate();
 }
 
@@ -149,8 +153,12 @@ struct DatasetExperiment::Impl {
                        const icr::GraspableObject& object) const;
   SnappedOutcome snapToKeptVertices(const std::vector<int>& contacts, double tws_radius) const;
   RegionComparison compare(const std::vector<int>& cad_region, const CadRegionSummary& cad_summary,
-                           const TriangleMesh& scan, const VertexFaces& scan_faces,
-                           const std::vector<int>& scan_region, DistanceWorkspace& workspace) const;
+                           const TriangleMesh& scan, const VertexFaces& scan_faces, const icr::ContactRegion& scan_region,
+                           DistanceWorkspace& workspace, std::vector<int>* mapped_out = nullptr) const;
+  /// Picks one vertex per region (as CAD vertices: `mapped` follows each
+  /// region's vertex order), checks them on the CAD mesh.
+  PickCheck checkPicks(const std::vector<icr::ContactRegion>& regions, const std::vector<std::vector<int>>& mapped,
+                       double tws_radius, std::uint64_t seed) const;
   GraspRecord evaluate(std::size_t set, std::size_t index, DistanceWorkspace& workspace) const;
 };
 
@@ -220,11 +228,21 @@ SnappedOutcome DatasetExperiment::Impl::snapToKeptVertices(const std::vector<int
 RegionComparison DatasetExperiment::Impl::compare(const std::vector<int>& cad_region,
                                                   const CadRegionSummary& cad_summary, const TriangleMesh& scan,
                                                   const VertexFaces& scan_faces,
-                                                  const std::vector<int>& scan_region,
-                                                  DistanceWorkspace& workspace) const {
-  const RegionIntersection intersection = estimator.estimate(cad_region, scan, scan_faces, scan_region);
+                                                  const icr::ContactRegion& scan_region,
+                                                  DistanceWorkspace& workspace, std::vector<int>* mapped_out) const {
+  const RegionIntersection intersection = estimator.estimate(cad_region, scan, scan_faces, scan_region.vertices);
+  if (mapped_out) *mapped_out = intersection.mapped_vertices;
   RegionComparison c;
-  c.vertices = scan_region.size();
+  c.vertices = scan_region.vertices.size();
+  // The recommended contact maps onto the CAD mesh as its region's vertices
+  // do (eq. (3)); mapped_vertices follows the region's order.
+  c.recommended_inside = false;
+  const auto at = std::lower_bound(scan_region.vertices.begin(), scan_region.vertices.end(), scan_region.recommended.vertex);
+  if (scan_region.recommended.vertex >= 0 && at != scan_region.vertices.end() && *at == scan_region.recommended.vertex) {
+    const std::size_t k = static_cast<std::size_t>(at - scan_region.vertices.begin());
+    const int image = k < intersection.mapped_vertices.size() ? intersection.mapped_vertices[k] : -1;
+    c.recommended_inside = image >= 0 && std::binary_search(cad_region.begin(), cad_region.end(), image);
+  }
   c.area_m2 = intersection.scan_region_area_m2;
   c.intersection_area_m2 = intersection.intersection_area_m2;
   c.false_positive_area_m2 = intersection.false_positive_area_m2;
@@ -241,6 +259,28 @@ RegionComparison DatasetExperiment::Impl::compare(const std::vector<int>& cad_re
   c.d2_m = q.d2_m;
   c.quality = q.quality;
   return c;
+}
+
+PickCheck DatasetExperiment::Impl::checkPicks(const std::vector<icr::ContactRegion>& regions,
+                                              const std::vector<std::vector<int>>& mapped, double tws_radius,
+                                              std::uint64_t seed) const {
+  PickCheck check;
+  for (const icr::ContactRegion& r : regions)
+    if (r.vertices.empty()) return check;
+  std::mt19937_64 random(seed);
+  for (std::size_t t = 0; t < config.picks_per_grasp; ++t) {
+    ++check.tried;
+    std::vector<int> cad_contacts;
+    for (std::size_t n = 0; n < regions.size(); ++n) {
+      const std::size_t k = std::uniform_int_distribution<std::size_t>(0, regions[n].vertices.size() - 1)(random);
+      cad_contacts.push_back(k < mapped[n].size() ? mapped[n][k] : -1);
+    }
+    const std::set<int> distinct(cad_contacts.begin(), cad_contacts.end());
+    if (distinct.count(-1) > 0 || distinct.size() < cad_contacts.size()) continue;
+    ++check.mapped;
+    if (checkTask(cad_contacts, tws_radius, cad_object).fulfilled) ++check.held;
+  }
+  return check;
 }
 
 GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index,
@@ -267,13 +307,51 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
   const icr::IcrResult raw = icr::computeIndependentContactRegions(raw_object, record.raw.contacts, params);
   const icr::IcrResult filtered = icr::computeIndependentContactRegions(filtered_object, record.filtered.contacts, params);
   record.evaluated = true;
-  for (std::size_t n = 0; n < cad.regions.size(); ++n) {
+  std::vector<CadRegionSummary> summaries;
+  const std::size_t fingers = cad.regions.size();
+  std::vector<std::vector<int>> raw_mapped(fingers), filtered_mapped(fingers);
+  for (std::size_t n = 0; n < fingers; ++n) {
     const std::vector<int>& cad_region = cad.regions[n].vertices;
-    const CadRegionSummary summary = quality.summarize(cad_region, workspace);
+    summaries.push_back(quality.summarize(cad_region, workspace));
+    const CadRegionSummary& summary = summaries.back();
     record.cad_region_areas_m2.push_back(cad.regions[n].area_m2);
-    record.raw.regions.push_back(compare(cad_region, summary, *meshes.raw, raw_faces, raw.regions[n].vertices, workspace));
-    record.filtered.regions.push_back(
-        compare(cad_region, summary, *meshes.filtered, filtered_faces, filtered.regions[n].vertices, workspace));
+    record.raw.regions.push_back(
+        compare(cad_region, summary, *meshes.raw, raw_faces, raw.regions[n], workspace, &raw_mapped[n]));
+    record.filtered.regions.push_back(compare(cad_region, summary, *meshes.filtered, filtered_faces,
+                                              filtered.regions[n], workspace, &filtered_mapped[n]));
+  }
+  // One seed per grasp and growth setting: the picks do not depend on which
+  // thread or shard evaluates the grasp.
+  const auto pickSeed = [&](std::size_t setting, std::size_t mesh) {
+    return ((config.seed * 1000003 + record.fingers) * 1000003 + index) * 1000003 + setting * 2 + mesh;
+  };
+  if (config.picks_per_grasp > 0) {
+    record.raw.picks = checkPicks(raw.regions, raw_mapped, record.tws_radius, pickSeed(0, 0));
+    record.filtered.picks = checkPicks(filtered.regions, filtered_mapped, record.tws_radius, pickSeed(0, 1));
+  }
+  for (const double k : config.conservative_sigmas) {
+    icr::IcrParameters conservative = params;
+    conservative.conservative = icr::ConservativeGrowth{};
+    conservative.conservative->sigmas = k;
+    const icr::IcrResult raw_k = icr::computeIndependentContactRegions(raw_object, record.raw.contacts, conservative);
+    const icr::IcrResult filtered_k =
+        icr::computeIndependentContactRegions(filtered_object, record.filtered.contacts, conservative);
+    ConservativeOutcome raw_outcome{k, {}, {}}, filtered_outcome{k, {}, {}};
+    for (std::size_t n = 0; n < fingers; ++n) {
+      const std::vector<int>& cad_region = cad.regions[n].vertices;
+      const CadRegionSummary& summary = summaries[n];
+      raw_outcome.regions.push_back(
+          compare(cad_region, summary, *meshes.raw, raw_faces, raw_k.regions[n], workspace, &raw_mapped[n]));
+      filtered_outcome.regions.push_back(compare(cad_region, summary, *meshes.filtered, filtered_faces,
+                                                 filtered_k.regions[n], workspace, &filtered_mapped[n]));
+    }
+    if (config.picks_per_grasp > 0) {
+      const std::size_t setting = 1 + record.raw.conservative.size();
+      raw_outcome.picks = checkPicks(raw_k.regions, raw_mapped, record.tws_radius, pickSeed(setting, 0));
+      filtered_outcome.picks = checkPicks(filtered_k.regions, filtered_mapped, record.tws_radius, pickSeed(setting, 1));
+    }
+    record.raw.conservative.push_back(std::move(raw_outcome));
+    record.filtered.conservative.push_back(std::move(filtered_outcome));
   }
   return record;
 }

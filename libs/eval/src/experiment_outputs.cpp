@@ -2,6 +2,7 @@
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
+#include <icrkit/eval/conservative_summary.hpp>
 #include <icrkit/eval/quality_histogram.hpp>
 #include <icrkit/eval/results_tables.hpp>
 #include <icrkit/eval/table_one_plot.hpp>
@@ -43,6 +44,8 @@ WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<
     writeQualityHistogramPng(path(stem + ".png"), histogram);
     writeQualityHistogramJson(path(stem + ".json"), histogram);
   }
+  const ConservativeSummary growth = computeConservativeSummary(records);
+  for (std::string& file : writeConservativeSummary(directory, growth)) written.files.push_back(std::move(file));
   writeFileAtomically(path("run.json"), [&](std::ostream& out) { out << outputs.run_json << "\n"; }, false);
   return written;
 }

@@ -47,7 +47,14 @@ Json regionToJson(const RegionComparison& region) {
   j["d1_m"] = doubleToJson(region.d1_m);
   j["d2_m"] = doubleToJson(region.d2_m);
   j["quality"] = optionalToJson(region.quality);
+  if (region.recommended_inside) j["recommended_inside"] = *region.recommended_inside;
   return j;
+}
+
+Json regionsToJson(const std::vector<RegionComparison>& regions) {
+  Json array = Json::array();
+  for (const auto& region : regions) array.push_back(regionToJson(region));
+  return array;
 }
 
 Json doublesToJson(const std::vector<double>& values) {
@@ -66,6 +73,10 @@ Json snappedToJson(const SnappedOutcome& snapped) {
   return j;
 }
 
+Json picksToJson(const PickCheck& picks) {
+  return Json{{"tried", picks.tried}, {"mapped", picks.mapped}, {"held", picks.held}};
+}
+
 Json meshToJson(const MeshOutcome& mesh) {
   Json j;
   j["contacts"] = mesh.contacts;
@@ -73,12 +84,20 @@ Json meshToJson(const MeshOutcome& mesh) {
   j["task_fulfilled"] = mesh.task_fulfilled;
   j["epsilon"] = doubleToJson(mesh.epsilon);
   j["reason"] = mesh.reason;
-  Json regions = Json::array();
-  for (const auto& region : mesh.regions) regions.push_back(regionToJson(region));
-  j["regions"] = std::move(regions);
+  j["regions"] = regionsToJson(mesh.regions);
   // Written only when computed, so records without it (the raw mesh, grasps
   // that passed the preselection, runs before it existed) keep their form.
   if (mesh.snapped) j["snapped"] = snappedToJson(*mesh.snapped);
+  if (mesh.picks) j["picks"] = picksToJson(*mesh.picks);
+  if (!mesh.conservative.empty()) {
+    Json conservative = Json::array();
+    for (const ConservativeOutcome& c : mesh.conservative) {
+      Json item{{"sigmas", doubleToJson(c.sigmas)}, {"regions", regionsToJson(c.regions)}};
+      if (c.picks) item["picks"] = picksToJson(*c.picks);
+      conservative.push_back(std::move(item));
+    }
+    j["conservative"] = std::move(conservative);
+  }
   return j;
 }
 
@@ -204,7 +223,24 @@ RegionComparison regionFromJson(const FieldReader& in, const Json& j, const std:
   region.d1_m = in.number(j, path, "d1_m");
   region.d2_m = in.number(j, path, "d2_m");
   region.quality = in.optionalNumber(j, path, "quality");
+  const Json& inside = in.optionalMember(j, path, "recommended_inside");
+  if (!inside.is_null()) {
+    if (!inside.is_boolean()) in.fail(FieldReader::join(path, "recommended_inside"), "expected true or false");
+    region.recommended_inside = inside.get<bool>();
+  }
   return region;
+}
+
+std::vector<RegionComparison> regionsFromJson(const FieldReader& in, const Json& j, const std::string& path) {
+  const Json& regions = in.array(j, path, "regions");
+  const std::string regionsPath = FieldReader::join(path, "regions");
+  std::vector<RegionComparison> out;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const std::string regionPath = FieldReader::indexed(regionsPath, i);
+    if (!regions[i].is_object()) in.fail(regionPath, "expected a JSON object");
+    out.push_back(regionFromJson(in, regions[i], regionPath));
+  }
+  return out;
 }
 
 SnappedOutcome snappedFromJson(const FieldReader& in, const Json& j, const std::string& path) {
@@ -218,6 +254,17 @@ SnappedOutcome snappedFromJson(const FieldReader& in, const Json& j, const std::
   return snapped;
 }
 
+std::optional<PickCheck> picksFromJson(const FieldReader& in, const Json& j, const std::string& path) {
+  const Json& picks = in.optionalMember(j, path, "picks");
+  if (picks.is_null()) return std::nullopt;
+  const std::string picksPath = FieldReader::join(path, "picks");
+  PickCheck check;
+  check.tried = in.count(picks, picksPath, "tried");
+  check.mapped = in.count(picks, picksPath, "mapped");
+  check.held = in.count(picks, picksPath, "held");
+  return check;
+}
+
 MeshOutcome meshFromJson(const FieldReader& in, const Json& j, const std::string& path) {
   if (!j.is_object()) in.fail(path, "expected a JSON object");
   MeshOutcome mesh;
@@ -226,16 +273,24 @@ MeshOutcome meshFromJson(const FieldReader& in, const Json& j, const std::string
   mesh.task_fulfilled = in.boolean(j, path, "task_fulfilled");
   mesh.epsilon = in.number(j, path, "epsilon");
   mesh.reason = in.string(j, path, "reason");
-  const Json& regions = in.array(j, path, "regions");
-  const std::string regionsPath = FieldReader::join(path, "regions");
-  for (std::size_t i = 0; i < regions.size(); ++i) {
-    const std::string regionPath = FieldReader::indexed(regionsPath, i);
-    if (!regions[i].is_object()) in.fail(regionPath, "expected a JSON object");
-    mesh.regions.push_back(regionFromJson(in, regions[i], regionPath));
-  }
+  mesh.regions = regionsFromJson(in, j, path);
   // Absent (records written before snapping existed) or null: not computed.
   const Json& snapped = in.optionalMember(j, path, "snapped");
   if (!snapped.is_null()) mesh.snapped = snappedFromJson(in, snapped, FieldReader::join(path, "snapped"));
+  mesh.picks = picksFromJson(in, j, path);
+  const Json& conservative = in.optionalMember(j, path, "conservative");
+  if (!conservative.is_null()) {
+    const std::string conservativePath = FieldReader::join(path, "conservative");
+    if (!conservative.is_array()) in.fail(conservativePath, "expected an array");
+    for (std::size_t i = 0; i < conservative.size(); ++i) {
+      const std::string itemPath = FieldReader::indexed(conservativePath, i);
+      ConservativeOutcome c;
+      c.sigmas = in.number(conservative[i], itemPath, "sigmas");
+      c.regions = regionsFromJson(in, conservative[i], itemPath);
+      c.picks = picksFromJson(in, conservative[i], itemPath);
+      mesh.conservative.push_back(std::move(c));
+    }
+  }
   return mesh;
 }
 

@@ -14,7 +14,8 @@
 /// lambda), so wrenches and the TWS mean the same on each. A G^F with a
 /// contact on an excluded vertex is also reported snapped (those contacts
 /// moved to the nearest kept vertex), beside, never instead of, the paper's
-/// check.
+/// check. Each region's recommended contact (its deepest vertex) is mapped
+/// onto the CAD mesh and checked against C_n^C.
 
 #include <icrkit/core/progress.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
@@ -68,6 +69,18 @@ struct ExperimentConfig {
   /// they were before it existed.
   bool snap_excluded_contacts = true;
   std::size_t max_sampling_attempts = 1000000;
+  /// Beside the plain regions, the regions on the raw and filtered meshes
+  /// grown conservatively with each K here (icr/conservative_growth.hpp; the
+  /// meshes need `normal_sigma` and `position_sigma`), compared with the same
+  /// plain CAD regions (MeshOutcome::conservative). Empty: none. Never
+  /// changes the plain outcome, Table I or Fig. 8.
+  std::vector<double> conservative_sigmas;
+  /// Per evaluated grasp and growth setting, this many random picks (one
+  /// vertex per region, seeded by the grasp) are moved onto the CAD mesh by
+  /// eq. (3) and checked there against the TWS (MeshOutcome::picks): whether
+  /// a robot trusting the regions gets a grasp that holds on the true object.
+  /// 0: none.
+  std::size_t picks_per_grasp = 20;
 
   /// Throws InputError naming the first parameter out of range.
   void validate() const;

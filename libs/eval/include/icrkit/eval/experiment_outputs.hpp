@@ -3,7 +3,9 @@
 /// The files of an experiment run directory, all computed from the grasp
 /// records (so a merged set of shards gives the same files as one run):
 /// grasps.jsonl, table1.{md,csv,json,svg,png}, eligibility.json,
-/// fig8_<N>fingers.{svg,png,json} for each finger count, run.json.
+/// fig8_<N>fingers.{svg,png,json} for each finger count,
+/// conservative.{json,md,svg} (plain against uncertainty-aware growth, and
+/// where the recommended contacts land), run.json.
 
 #include <icrkit/eval/experiment_records.hpp>
 #include <icrkit/eval/results_tables.hpp>

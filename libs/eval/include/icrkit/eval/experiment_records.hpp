@@ -23,6 +23,29 @@ struct RegionComparison {
   double d1_m = 0.0;                      ///< CAD central point to the CAD region's border
   double d2_m = 0.0;                      ///< mapped central point to that border, negative outside
   std::optional<double> quality;          ///< Q_n = d2 / d1; unset when d1 = 0 (degenerate)
+  /// Whether the region's recommended contact (its deepest vertex,
+  /// icr/recommended_contact.hpp), mapped onto the CAD mesh by eq. (3),
+  /// lies in C_n^C. false for an empty region or a contact that maps
+  /// nowhere (no place to aim is not a place inside); unset in records
+  /// written before it existed.
+  std::optional<bool> recommended_inside;
+};
+
+/// Random picks of one vertex per region, moved onto the CAD mesh by eq. (3)
+/// and checked there (CAD positions and normals, the grasp's TWS): what a
+/// robot that trusts the regions would get on the true object.
+struct PickCheck {
+  std::size_t tried = 0;     ///< picks drawn (none when a region is empty)
+  std::size_t mapped = 0;    ///< picks whose vertices all map onto distinct CAD vertices
+  std::size_t held = 0;      ///< mapped picks whose CAD grasp holds the TWS
+};
+
+/// The regions of one mesh grown conservatively (icr/conservative_growth.hpp)
+/// with K = `sigmas`, compared with the same CAD regions as the plain ones.
+struct ConservativeOutcome {
+  double sigmas = 0.0;
+  std::vector<RegionComparison> regions;  ///< one per finger; an empty region has 0 vertices and area
+  std::optional<PickCheck> picks;
 };
 
 /// G^F after its contacts on excluded vertices moved to the nearest kept
@@ -45,10 +68,16 @@ struct MeshOutcome {
   double epsilon = 0.0;                    ///< of the mapped grasp, 0 when not force closure
   std::string reason;                      ///< why it is not eligible; empty when it is
   std::vector<RegionComparison> regions;   ///< one per finger, when the grasp was evaluated
+  /// ExperimentConfig::picks_per_grasp picks from `regions`, when evaluated
+  /// (unset in records written before it existed).
+  std::optional<PickCheck> picks;
   /// Filtered mesh only: set when the grasp was mapped but failed the
   /// preselection (ExperimentConfig::snap_excluded_contacts); unset otherwise,
   /// and in records written before it existed (then: not computed).
   std::optional<SnappedOutcome> snapped;
+  /// ExperimentConfig::conservative_sigmas, in that order, when the grasp was
+  /// evaluated; empty otherwise.
+  std::vector<ConservativeOutcome> conservative;
 
   /// The paper's check: no contact on an excluded vertex, and the task met.
   bool eligible() const { return preselection_passed && task_fulfilled; }

@@ -1,0 +1,61 @@
+#pragma once
+/// \file
+/// Plain against uncertainty-aware growth (ExperimentConfig::conservative_sigmas),
+/// from grasp records: per growth setting and mesh type, the median Int and
+/// FP (as Table I), how many regions ended empty, how many recommended
+/// contacts lie inside the CAD region, how many central points lie
+/// outside it (Q_n < 0), and how many random picks from the regions hold
+/// the task on the CAD mesh (MeshOutcome::picks). Written as conservative.{json,md,svg} (the svg: the
+/// Int-vs-FP curve over K).
+
+#include <icrkit/eval/experiment_records.hpp>
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace icrkit::eval {
+
+struct GrowthFigures {
+  std::optional<double> intersection_percent;    ///< median over the regions; unset without regions
+  std::optional<double> false_positive_percent;  ///< median over the regions
+  std::size_t regions = 0;
+  std::size_t empty_regions = 0;       ///< no vertex kept the guarantee
+  std::size_t recommended_known = 0;   ///< regions whose record says where the recommended contact landed
+  std::size_t recommended_inside = 0;  ///< ... inside C_n^C
+  std::size_t center_outside = 0;      ///< central point mapped outside C_n^C (d2 < 0)
+  std::size_t grasps_with_picks = 0;   ///< grasps whose regions were all non-empty (picks drawn)
+  std::size_t picks_mapped = 0;        ///< picks that mapped onto distinct CAD vertices
+  std::size_t picks_held = 0;          ///< ... and hold the TWS on the CAD mesh
+  std::optional<double> picksHeldPercent() const;
+  std::optional<double> recommendedInsidePercent() const;
+  std::optional<double> centerOutsidePercent() const;
+};
+
+struct GrowthRow {
+  std::string dataset;            ///< "All" for the pooled row
+  std::optional<double> sigmas;   ///< unset: plain growth
+  std::size_t evaluated_grasps = 0;
+  GrowthFigures filtered, raw;
+};
+
+struct ConservativeSummary {
+  std::vector<double> sigmas;  ///< the K values found in the records, ascending
+  /// Per dataset (sorted) and then "All": plain first, then each K.
+  std::vector<GrowthRow> rows;
+};
+
+ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& records);
+
+std::string conservativeSummaryJson(const ConservativeSummary& summary);
+std::string conservativeSummaryMarkdown(const ConservativeSummary& summary);
+/// Median Int against median FP of the pooled rows, one polyline per mesh
+/// type, each point labelled with its K (plain growth as "plain").
+std::string conservativeCurveSvg(const ConservativeSummary& summary);
+
+/// Writes conservative.json, conservative.md and conservative.svg into
+/// `directory` (atomically) and returns their paths.
+std::vector<std::string> writeConservativeSummary(const std::string& directory, const ConservativeSummary& summary);
+
+}  // namespace icrkit::eval

@@ -1,0 +1,259 @@
+#include <icrkit/eval/conservative_summary.hpp>
+
+#include <icrkit/core/atomic_file.hpp>
+#include <icrkit/eval/results_tables.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace icrkit::eval {
+namespace {
+
+// Collects one growth setting's regions of one mesh type.
+struct Accumulator {
+  std::vector<double> intersection, false_positive;
+  GrowthFigures figures;
+
+  void add(const RegionComparison& r) {
+    ++figures.regions;
+    if (r.vertices == 0) ++figures.empty_regions;
+    if (r.intersection_percent) intersection.push_back(*r.intersection_percent);
+    if (r.false_positive_percent) false_positive.push_back(*r.false_positive_percent);
+    if (r.recommended_inside) {
+      ++figures.recommended_known;
+      if (*r.recommended_inside) ++figures.recommended_inside;
+    }
+    if (r.vertices > 0 && r.d2_m < 0) ++figures.center_outside;
+  }
+  void add(const std::optional<PickCheck>& picks) {
+    if (!picks || picks->tried == 0) return;
+    ++figures.grasps_with_picks;
+    figures.picks_mapped += picks->mapped;
+    figures.picks_held += picks->held;
+  }
+  GrowthFigures finish() const {
+    GrowthFigures f = figures;
+    f.intersection_percent = median(intersection);
+    f.false_positive_percent = median(false_positive);
+    return f;
+  }
+};
+
+struct RowAccumulator {
+  std::size_t grasps = 0;
+  Accumulator filtered, raw;
+};
+
+// Key: (dataset, setting index: 0 plain, 1 + index into the K list).
+using Key = std::pair<std::string, std::size_t>;
+
+std::string kLabel(const std::optional<double>& sigmas) {
+  if (!sigmas) return "plain";
+  std::ostringstream out;
+  out << "K " << *sigmas;
+  return out.str();
+}
+
+nlohmann::ordered_json optionalJson(const std::optional<double>& v) { return v ? nlohmann::ordered_json(*v) : nullptr; }
+
+nlohmann::ordered_json figuresJson(const GrowthFigures& f) {
+  return {{"intersection_percent", optionalJson(f.intersection_percent)},
+          {"false_positive_percent", optionalJson(f.false_positive_percent)},
+          {"regions", f.regions},
+          {"empty_regions", f.empty_regions},
+          {"recommended_known", f.recommended_known},
+          {"recommended_inside", f.recommended_inside},
+          {"recommended_inside_percent", optionalJson(f.recommendedInsidePercent())},
+          {"center_outside", f.center_outside},
+          {"center_outside_percent", optionalJson(f.centerOutsidePercent())},
+          {"grasps_with_picks", f.grasps_with_picks},
+          {"picks_mapped", f.picks_mapped},
+          {"picks_held", f.picks_held},
+          {"picks_held_percent", optionalJson(f.picksHeldPercent())}};
+}
+
+std::string cell(const std::optional<double>& v, int digits = 1) {
+  if (!v) return "–";
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(digits) << *v;
+  return out.str();
+}
+
+}  // namespace
+
+std::optional<double> GrowthFigures::recommendedInsidePercent() const {
+  if (recommended_known == 0) return std::nullopt;
+  return 100.0 * static_cast<double>(recommended_inside) / static_cast<double>(recommended_known);
+}
+
+std::optional<double> GrowthFigures::picksHeldPercent() const {
+  if (picks_mapped == 0) return std::nullopt;
+  return 100.0 * static_cast<double>(picks_held) / static_cast<double>(picks_mapped);
+}
+
+std::optional<double> GrowthFigures::centerOutsidePercent() const {
+  const std::size_t nonempty = regions - empty_regions;
+  if (nonempty == 0) return std::nullopt;
+  return 100.0 * static_cast<double>(center_outside) / static_cast<double>(nonempty);
+}
+
+ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& records) {
+  ConservativeSummary summary;
+  std::set<double> ks;
+  for (const GraspRecord& r : records)
+    for (const ConservativeOutcome& c : r.filtered.conservative) ks.insert(c.sigmas);
+  summary.sigmas.assign(ks.begin(), ks.end());
+  auto settingOf = [&](double k) {
+    return 1 + static_cast<std::size_t>(std::lower_bound(summary.sigmas.begin(), summary.sigmas.end(), k) -
+                                        summary.sigmas.begin());
+  };
+
+  std::map<Key, RowAccumulator> rows;
+  for (const GraspRecord& r : records) {
+    if (!r.evaluated) continue;
+    for (const std::string& dataset : {r.dataset, std::string("\x7f" "All")}) {  // "All" sorts last
+      RowAccumulator& plain = rows[{dataset, 0}];
+      ++plain.grasps;
+      for (const auto& region : r.filtered.regions) plain.filtered.add(region);
+      for (const auto& region : r.raw.regions) plain.raw.add(region);
+      plain.filtered.add(r.filtered.picks);
+      plain.raw.add(r.raw.picks);
+      for (const ConservativeOutcome& c : r.filtered.conservative) {
+        RowAccumulator& row = rows[{dataset, settingOf(c.sigmas)}];
+        ++row.grasps;
+        for (const auto& region : c.regions) row.filtered.add(region);
+        row.filtered.add(c.picks);
+      }
+      for (const ConservativeOutcome& c : r.raw.conservative) {
+        RowAccumulator& row = rows[{dataset, settingOf(c.sigmas)}];
+        for (const auto& region : c.regions) row.raw.add(region);
+        row.raw.add(c.picks);
+      }
+    }
+  }
+  for (const auto& [key, acc] : rows) {
+    GrowthRow row;
+    row.dataset = key.first == "\x7f" "All" ? "All" : key.first;
+    if (key.second > 0) row.sigmas = summary.sigmas[key.second - 1];
+    row.evaluated_grasps = acc.grasps;
+    row.filtered = acc.filtered.finish();
+    row.raw = acc.raw.finish();
+    summary.rows.push_back(std::move(row));
+  }
+  return summary;
+}
+
+std::string conservativeSummaryJson(const ConservativeSummary& summary) {
+  nlohmann::ordered_json j;
+  j["sigmas"] = summary.sigmas;
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const GrowthRow& row : summary.rows)
+    rows.push_back({{"dataset", row.dataset},
+                    {"growth", row.sigmas ? "conservative" : "plain"},
+                    {"sigmas", optionalJson(row.sigmas)},
+                    {"evaluated_grasps", row.evaluated_grasps},
+                    {"filtered", figuresJson(row.filtered)},
+                    {"raw", figuresJson(row.raw)}});
+  j["rows"] = std::move(rows);
+  return j.dump(2);
+}
+
+std::string conservativeSummaryMarkdown(const ConservativeSummary& summary) {
+  std::ostringstream out;
+  out << "| dataset | growth | grasps | filtered Int % | filtered FP % | filtered empty | filtered aim inside % | "
+         "filtered centre outside % | filtered picks held % (grasps) | raw Int % | raw FP % | raw empty | raw aim "
+         "inside % | raw centre outside % | raw picks held % (grasps) |\n"
+      << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const GrowthRow& row : summary.rows) {
+    out << "| " << row.dataset << " | " << kLabel(row.sigmas) << " | " << row.evaluated_grasps;
+    for (const GrowthFigures* f : {&row.filtered, &row.raw})
+      out << " | " << cell(f->intersection_percent) << " | " << cell(f->false_positive_percent) << " | "
+          << f->empty_regions << "/" << f->regions << " | " << cell(f->recommendedInsidePercent()) << " | "
+          << cell(f->centerOutsidePercent()) << " | " << cell(f->picksHeldPercent()) << " (" << f->grasps_with_picks
+          << ")";
+    out << " |\n";
+  }
+  out << "\nInt, FP: medians over all regions (an empty region counts 0 and 0). Aim inside: the region's "
+         "recommended contact (its deepest vertex) maps into the CAD region; an empty region has none and "
+         "counts as not inside. Centre outside: Q_n < 0, over the non-empty regions. Picks held: random picks of "
+         "one vertex per region (ExperimentConfig::picks_per_grasp), moved onto the CAD mesh by eq. (3), whose CAD grasp holds the "
+         "task; in brackets the grasps whose regions were all non-empty.\n";
+  return out.str();
+}
+
+std::string conservativeCurveSvg(const ConservativeSummary& summary) {
+  const double width = 640, height = 440, left = 70, right = 30, top = 40, bottom = 60;
+  auto x = [&](double fp) { return left + (width - left - right) * std::clamp(fp, 0.0, 100.0) / 100.0; };
+  auto y = [&](double in) { return height - bottom - (height - top - bottom) * std::clamp(in, 0.0, 100.0) / 100.0; };
+  std::ostringstream svg;
+  svg << std::fixed << std::setprecision(1);
+  svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      << "<text x=\"" << width / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">Median Int against median FP "
+      << "over K (all datasets)</text>\n";
+  for (int t = 0; t <= 100; t += 20) {
+    svg << "<line x1=\"" << x(t) << "\" y1=\"" << y(0) << "\" x2=\"" << x(t) << "\" y2=\"" << y(100)
+        << "\" stroke=\"#eee\"/>\n<line x1=\"" << x(0) << "\" y1=\"" << y(t) << "\" x2=\"" << x(100) << "\" y2=\""
+        << y(t) << "\" stroke=\"#eee\"/>\n"
+        << "<text x=\"" << x(t) << "\" y=\"" << y(0) + 16 << "\" text-anchor=\"middle\">" << t << "</text>\n"
+        << "<text x=\"" << x(0) - 8 << "\" y=\"" << y(t) + 4 << "\" text-anchor=\"end\">" << t << "</text>\n";
+  }
+  svg << "<text x=\"" << (x(0) + x(100)) / 2 << "\" y=\"" << height - 18 << "\" text-anchor=\"middle\">median FP (% of "
+      << "the CAD region)</text>\n<text transform=\"translate(18," << (y(0) + y(100)) / 2
+      << ") rotate(-90)\" text-anchor=\"middle\">median Int (%)</text>\n";
+  // The paper's result (filtered, Table I average): Int 59 %, FP 9 %.
+  svg << "<circle cx=\"" << x(9) << "\" cy=\"" << y(59) << "\" r=\"5\" fill=\"none\" stroke=\"black\"/>\n<text x=\""
+      << x(9) + 8 << "\" y=\"" << y(59) - 6 << "\">paper</text>\n";
+  const struct {
+    const char* name;
+    const char* colour;
+    bool filtered;
+  } meshes[] = {{"filtered", "#1f77b4", true}, {"raw", "#d62728", false}};
+  double legend_y = top + 10;
+  for (const auto& mesh : meshes) {
+    std::ostringstream points, labels;
+    points << std::fixed << std::setprecision(1);
+    labels << std::fixed << std::setprecision(1);
+    for (const GrowthRow& row : summary.rows) {
+      if (row.dataset != "All") continue;
+      const GrowthFigures& f = mesh.filtered ? row.filtered : row.raw;
+      if (!f.intersection_percent || !f.false_positive_percent) continue;
+      const double px = x(*f.false_positive_percent), py = y(*f.intersection_percent);
+      points << px << "," << py << " ";
+      labels << "<circle cx=\"" << px << "\" cy=\"" << py << "\" r=\"3\" fill=\"" << mesh.colour << "\"/>\n<text x=\""
+             << px + 5 << "\" y=\"" << py + 14 << "\" fill=\"" << mesh.colour << "\">" << kLabel(row.sigmas)
+             << "</text>\n";
+    }
+    svg << "<polyline points=\"" << points.str() << "\" fill=\"none\" stroke=\"" << mesh.colour
+        << "\" stroke-width=\"2\"/>\n"
+        << labels.str() << "<text x=\"" << x(100) - 80 << "\" y=\"" << legend_y << "\" fill=\"" << mesh.colour
+        << "\">" << mesh.name << " mesh</text>\n";
+    legend_y += 16;
+  }
+  svg << "</svg>\n";
+  return svg.str();
+}
+
+std::vector<std::string> writeConservativeSummary(const std::string& directory, const ConservativeSummary& summary) {
+  namespace fs = std::filesystem;
+  const fs::path dir(directory);
+  std::vector<std::string> files;
+  const auto write = [&](const std::string& name, const std::string& text) {
+    files.push_back((dir / name).string());
+    writeFileAtomically(files.back(), [&](std::ostream& out) { out << text; });
+  };
+  write("conservative.json", conservativeSummaryJson(summary) + "\n");
+  write("conservative.md", conservativeSummaryMarkdown(summary));
+  write("conservative.svg", conservativeCurveSvg(summary));
+  return files;
+}
+
+}  // namespace icrkit::eval
