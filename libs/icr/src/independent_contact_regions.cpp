@@ -2,6 +2,8 @@
 #include <icrkit/icr/independent_contact_regions.hpp>
 #include <icrkit/icr/search_zones.hpp>
 
+#include "prototype_checks.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,24 +16,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-void checkContacts(const GraspableObject& object, const std::vector<int>& contacts) {
-  auto fail = [](const std::string& detail) { throw InputError("grasp", "", detail); };
-  if (contacts.size() < 2) fail("a grasp needs at least 2 contacts, got " + std::to_string(contacts.size()));
-  const long n = static_cast<long>(object.vertexCount());
-  for (std::size_t i = 0; i < contacts.size(); ++i) {
-    const int c = contacts[i];
-    if (c < 0 || c >= n)
-      fail("contact " + std::to_string(i) + " is vertex " + std::to_string(c) + ", expected 0.." + std::to_string(n - 1));
-    if (!object.referenced(static_cast<std::size_t>(c)))
-      fail("contact " + std::to_string(i) + " (vertex " + std::to_string(c) +
-           ") is used by no face, so it is not on the surface; choose a vertex of a face");
-    if (object.excluded(static_cast<std::size_t>(c)))
-      fail("contact " + std::to_string(i) + " (vertex " + std::to_string(c) + ") is excluded by preselection");
-    for (std::size_t j = 0; j < i; ++j)
-      if (contacts[j] == c) fail("vertex " + std::to_string(c) + " is used by contacts " + std::to_string(j) + " and " + std::to_string(i));
-  }
 }
 
 // The conservative test's pieces, shared by every vertex of one grasp.
@@ -178,7 +162,7 @@ GraspWrenchSpace graspWrenchSpace(const GraspableObject& object, const std::vect
 IcrResult computeIndependentContactRegions(const GraspableObject& object, const std::vector<int>& contacts,
                                            const IcrParameters& params) {
   const auto start = Clock::now();
-  checkContacts(object, contacts);
+  detail::checkPrototypeContacts(object, contacts);
   if (params.tws_radius <= 0 && !params.tws_wrenches && !(params.alpha > 0 && params.alpha <= 1))
     throw InputError("task wrench space", "", "alpha must be in (0, 1], got " + std::to_string(params.alpha));
 

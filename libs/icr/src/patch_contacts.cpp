@@ -2,6 +2,8 @@
 #include <icrkit/icr/patch_contacts.hpp>
 #include <icrkit/icr/search_zones.hpp>
 
+#include "prototype_checks.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -19,26 +21,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// The checks and messages of computeIndependentContactRegions: a patch grasp
-// is named by its centre vertices, which must be valid single-point contacts.
-void checkContacts(const GraspableObject& object, const std::vector<int>& contacts) {
-  auto fail = [](const std::string& detail) { throw InputError("grasp", "", detail); };
-  if (contacts.size() < 2) fail("a grasp needs at least 2 contacts, got " + std::to_string(contacts.size()));
-  const long n = static_cast<long>(object.vertexCount());
-  for (std::size_t i = 0; i < contacts.size(); ++i) {
-    const int c = contacts[i];
-    if (c < 0 || c >= n)
-      fail("contact " + std::to_string(i) + " is vertex " + std::to_string(c) + ", expected 0.." + std::to_string(n - 1));
-    if (!object.referenced(static_cast<std::size_t>(c)))
-      fail("contact " + std::to_string(i) + " (vertex " + std::to_string(c) +
-           ") is used by no face, so it is not on the surface; choose a vertex of a face");
-    if (object.excluded(static_cast<std::size_t>(c)))
-      fail("contact " + std::to_string(i) + " (vertex " + std::to_string(c) + ") is excluded by preselection");
-    for (std::size_t j = 0; j < i; ++j)
-      if (contacts[j] == c) fail("vertex " + std::to_string(c) + " is used by contacts " + std::to_string(j) + " and " + std::to_string(i));
-  }
 }
 
 // Per grasp: the wrenches of each patch point, computed the first time a
@@ -322,7 +304,7 @@ IcrResult computePatchContactRegions(const GraspableObject& object, const Contac
   const auto start = Clock::now();
   if (&patches.object().mesh() != &object.mesh())
     throw InputError("contact patches", "", "the patches were built on another mesh than the object's");
-  checkContacts(object, contacts);
+  detail::checkPrototypeContacts(object, contacts);
   if (params.tws_radius <= 0 && !params.tws_wrenches && !(params.alpha > 0 && params.alpha <= 1))
     throw InputError("task wrench space", "", "alpha must be in (0, 1], got " + std::to_string(params.alpha));
   // Its bound would have to cover every patch point's uncertainty: not derived yet.
