@@ -1,0 +1,77 @@
+# Type stubs of the icrkit package, so that editors complete the API.
+from typing import Any, Dict, List, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+Points = npt.NDArray[np.float64]  # (N, 3), C-contiguous, metres
+
+class PointCloud:
+    def __init__(self, points: Points, normals: Optional[Points] = ...) -> None: ...
+    @property
+    def points(self) -> Points: ...
+    @property
+    def normals(self) -> Optional[Points]: ...
+    @property
+    def attributes(self) -> Dict[str, npt.NDArray[np.float64]]: ...
+    def set_attribute(self, name: str, values: npt.ArrayLike) -> None: ...
+    def __len__(self) -> int: ...
+
+class TriangleMesh:
+    def __init__(self, vertices: Points, faces: npt.ArrayLike, normals: Optional[Points] = ...) -> None: ...
+    @property
+    def vertices(self) -> Points: ...
+    @property
+    def normals(self) -> Optional[Points]: ...
+    @property
+    def faces(self) -> npt.NDArray[np.int32]: ...
+    @property
+    def attributes(self) -> Dict[str, npt.NDArray[np.float64]]: ...
+    def set_attribute(self, name: str, values: npt.ArrayLike) -> None: ...
+
+def read_mesh(path: str) -> TriangleMesh: ...
+def read_point_cloud(path: str) -> PointCloud: ...
+def write_mesh(path: str, mesh: TriangleMesh) -> None: ...
+def write_point_cloud(path: str, cloud: PointCloud) -> None: ...
+def smooth(
+    points: Union[Points, PointCloud],
+    normals: Optional[Points] = ...,
+    radius: Optional[float] = ...,
+    radius_factor: float = ...,
+    passes: int = ...,
+    preselection: str = ...,
+    viewpoint: Optional[Sequence[float]] = ...,
+) -> PointCloud: ...
+def ball_pivoting(
+    points: Union[Points, PointCloud], normals: Optional[Points] = ..., radii: Optional[Sequence[float]] = ...
+) -> TriangleMesh: ...
+def independent_contact_regions(
+    mesh: TriangleMesh,
+    contacts: Sequence[int],
+    model: str = ...,
+    mu: float = ...,
+    edges: int = ...,
+    mu_t: float = ...,
+    alpha: float = ...,
+    tws_radius: Optional[float] = ...,
+    mode: str = ...,
+    torque_reference: str = ...,
+    excluded: Optional[npt.ArrayLike] = ...,
+    conservative: Optional[float] = ...,
+    normal_uncertainty: Optional[float] = ...,
+    position_uncertainty: Optional[float] = ...,
+    patch_radius: Optional[float] = ...,
+) -> Dict[str, Any]: ...
+def sample_grasps(
+    mesh: TriangleMesh,
+    fingers: int = ...,
+    count: int = ...,
+    seed: int = ...,
+    min_epsilon: float = ...,
+    model: str = ...,
+    mu: float = ...,
+    edges: int = ...,
+    mu_t: float = ...,
+    torque_reference: str = ...,
+    excluded: Optional[npt.ArrayLike] = ...,
+) -> List[Dict[str, Any]]: ...

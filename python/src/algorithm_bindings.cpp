@@ -1,0 +1,216 @@
+// The algorithms a researcher scripts: smoothing, ball pivoting, ICRs and
+// grasp sampling. Inputs are converted (and checked) while holding the GIL;
+// the computation runs without it, so other Python threads keep going.
+
+#include "arrays.hpp"
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/icr/grasp_sampling.hpp>
+#include <icrkit/icr/independent_contact_regions.hpp>
+#include <icrkit/icr/patch_contacts.hpp>
+#include <icrkit/ndt/preselection.hpp>
+#include <icrkit/ndt/smoothing.hpp>
+#include <icrkit/reconstruction/ball_pivoting.hpp>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+
+namespace icrkit::python {
+
+PointCloud cloudFromPython(const py::handle& points, const py::handle& normals);
+
+namespace {
+
+PointCloud asCloud(const py::handle& points, const py::handle& normals) {
+  if (py::isinstance<PointCloud>(points)) {
+    PointCloud cloud = points.cast<PointCloud>();
+    if (!normals.is_none()) cloud.normals = cloudFromPython(points.attr("points"), normals).normals;
+    return cloud;
+  }
+  return cloudFromPython(points, normals);
+}
+
+icr::ContactModel contactModel(const std::string& model, double mu, int edges, double mu_t) {
+  icr::ContactModel m;
+  if (model == "frictional")
+    m.type = icr::ContactType::Frictional;
+  else if (model == "frictionless")
+    m.type = icr::ContactType::Frictionless;
+  else if (model == "soft")
+    m.type = icr::ContactType::SoftFinger;
+  else
+    throw InputError("model", "", "expected frictional, frictionless or soft, got '" + model + "'");
+  m.friction = mu;
+  m.cone_edges = edges;
+  m.torsional_friction = mu_t;
+  m.validate();
+  return m;
+}
+
+icr::TorqueReference torqueReference(const std::string& name) {
+  if (name == "origin") return icr::TorqueReference::Origin;
+  if (name == "centroid") return icr::TorqueReference::Centroid;
+  throw InputError("torque_reference", "", "expected origin or centroid, got '" + name + "'");
+}
+
+std::vector<std::uint8_t> exclusionMask(const TriangleMesh& mesh, const py::handle& excluded) {
+  if (excluded.is_none()) return icr::exclusionMaskOf(mesh);
+  const py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast> a =
+      py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>::ensure(excluded);
+  if (!a || a.ndim() != 1 || static_cast<std::size_t>(a.shape(0)) != mesh.vertexCount())
+    throw py::value_error("excluded: expected one flag per vertex (" + std::to_string(mesh.vertexCount()) + ")");
+  return std::vector<std::uint8_t>(a.data(), a.data() + a.shape(0));
+}
+
+py::dict resultToDict(const icr::IcrResult& r) {
+  py::list regions;
+  for (const icr::ContactRegion& region : r.regions) {
+    py::dict d;
+    d["finger"] = region.finger;
+    d["contact"] = region.contact;
+    d["vertices"] = py::array_t<int>(static_cast<py::ssize_t>(region.vertices.size()), region.vertices.data());
+    d["area_m2"] = region.area_m2;
+    d["recommended"] = py::dict(py::arg("vertex") = region.recommended.vertex,
+                                py::arg("depth_m") = region.recommended.depth_m);
+    regions.append(d);
+  }
+  py::dict out;
+  out["epsilon"] = r.epsilon;
+  out["lambda_m"] = r.lambda_m;
+  out["tws_radius"] = r.tws_radius;
+  out["gws_facets"] = r.gws_facets;
+  out["regions"] = regions;
+  out["vertices_tested"] = r.vertices_tested;
+  out["time_ms"] = py::dict(py::arg("hull") = r.timings.hull_ms, py::arg("zones") = r.timings.zones_ms,
+                            py::arg("growth") = r.timings.growth_ms, py::arg("total") = r.timings.total_ms);
+  return out;
+}
+
+}  // namespace
+
+void bindAlgorithms(py::module_& m) {
+  m.def(
+      "smooth",
+      [](const py::handle& points, const py::handle& normals, std::optional<double> radius, double radius_factor,
+         int passes, const std::string& preselection, std::optional<std::vector<double>> viewpoint) {
+        PointCloud cloud = asCloud(points, normals);
+        ndt::SmoothingParameters params;
+        params.radius = radius.value_or(0.0);
+        params.radius_factor = radius_factor;
+        params.passes = passes;
+        params.preselection.rule = ndt::parsePreselectionRule(preselection, "preselection");
+        if (viewpoint) {
+          if (viewpoint->size() != 3) throw py::value_error("viewpoint: expected (x, y, z)");
+          params.viewpoint = Eigen::Vector3d((*viewpoint)[0], (*viewpoint)[1], (*viewpoint)[2]);
+        }
+        {
+          py::gil_scoped_release release;
+          ndt::smoothPointCloud(cloud, params);
+        }
+        return cloud;
+      },
+      py::arg("points"), py::arg("normals") = py::none(), py::arg("radius") = py::none(),
+      py::arg("radius_factor") = 4.0, py::arg("passes") = 1, py::arg("preselection") = "default",
+      py::arg("viewpoint") = py::none(),
+      "The 3D-NDT smoothing layer (Krug et al., Algorithm 1) and preselection. `points`: (N, 3) float64 metres or a "
+      "PointCloud. `radius` in metres (None: radius_factor x the median spacing). Returns a new PointCloud with the "
+      "smoothed points, v3 normals and the attributes cardinality, flatness, displacement (m), normal_sigma (rad), "
+      "position_sigma (m) and excluded (unless preselection='none'). docs/smoothing.md.");
+
+  m.def(
+      "ball_pivoting",
+      [](const py::handle& points, const py::handle& normals, std::optional<std::vector<double>> radii) {
+        PointCloud cloud = asCloud(points, normals);
+        if (!cloud.hasNormals()) throw py::value_error("normals: ball pivoting needs one unit normal per point");
+        reconstruction::BallPivotingParameters params;
+        if (radii) params.radii = *radii;
+        py::gil_scoped_release release;
+        return reconstruction::ballPivoting(cloud, params).mesh;
+      },
+      py::arg("points"), py::arg("normals") = py::none(), py::arg("radii") = py::none(),
+      "Ball pivoting (Bernardini et al. 1999) with hole filling and the thinned points put back. `radii` in metres "
+      "(None: 1.5 and 2.5 x the median spacing). Returns a TriangleMesh whose vertices are the input points, with "
+      "their attributes. docs/meshing.md.");
+
+  m.def(
+      "independent_contact_regions",
+      [](const TriangleMesh& mesh, const std::vector<int>& contacts, const std::string& model, double mu, int edges,
+         double mu_t, double alpha, std::optional<double> tws_radius, const std::string& mode,
+         const std::string& torque_reference, const py::handle& excluded, std::optional<double> conservative,
+         std::optional<double> normal_uncertainty, std::optional<double> position_uncertainty,
+         std::optional<double> patch_radius) {
+        icr::IcrParameters params;
+        params.contact_model = contactModel(model, mu, edges, mu_t);
+        params.alpha = alpha;
+        if (tws_radius) params.tws_radius = *tws_radius;
+        if (mode != "bfs" && mode != "full") throw InputError("mode", "", "expected bfs or full, got '" + mode + "'");
+        params.mode = mode == "full" ? icr::GrowthMode::Full : icr::GrowthMode::BreadthFirst;
+        if (conservative || normal_uncertainty || position_uncertainty) {
+          params.conservative = icr::ConservativeGrowth{};
+          if (conservative) params.conservative->sigmas = *conservative;
+          params.conservative->normal_angle = normal_uncertainty;
+          params.conservative->position_offset = position_uncertainty;
+        }
+        std::vector<std::uint8_t> mask = exclusionMask(mesh, excluded);
+        const icr::TorqueReference reference = torqueReference(torque_reference);
+        py::gil_scoped_release release;
+        const icr::GraspableObject object = icr::GraspableObject::withDefaultFrame(mesh, std::move(mask), reference);
+        icr::IcrResult result;
+        if (patch_radius) {
+          icr::PatchParameters patch;
+          patch.radius_m = *patch_radius;
+          const icr::ContactPatches patches(object, patch);
+          result = icr::computePatchContactRegions(object, patches, contacts, params);
+        } else {
+          result = icr::computeIndependentContactRegions(object, contacts, params);
+        }
+        py::gil_scoped_acquire acquire;
+        return resultToDict(result);
+      },
+      py::arg("mesh"), py::arg("contacts"), py::arg("model") = "frictional", py::arg("mu") = 0.8,
+      py::arg("edges") = 8, py::arg("mu_t") = 0.5, py::arg("alpha") = 0.5, py::arg("tws_radius") = py::none(),
+      py::arg("mode") = "bfs", py::arg("torque_reference") = "origin", py::arg("excluded") = py::none(),
+      py::arg("conservative") = py::none(), py::arg("normal_uncertainty") = py::none(),
+      py::arg("position_uncertainty") = py::none(), py::arg("patch_radius") = py::none(),
+      "Independent Contact Regions (Krug et al. 2010) of a force-closure prototype grasp given by vertex indices. "
+      "TWS: a ball of alpha x epsilon (or `tws_radius`). `excluded`: one flag per vertex (None: the mesh's "
+      "`excluded` attribute). `conservative`: K, uncertainty-aware growth from the normal_sigma / position_sigma "
+      "attributes, or fixed `normal_uncertainty` (rad) and `position_uncertainty` (m). `patch_radius` (m): the "
+      "authors' multi-point contacts. Returns a dict: epsilon, lambda_m, tws_radius, gws_facets, regions (finger, "
+      "contact, vertices, area_m2, recommended), vertices_tested, time_ms. The same numbers as `icrkit icr`.");
+
+  m.def(
+      "sample_grasps",
+      [](const TriangleMesh& mesh, std::size_t fingers, std::size_t count, std::uint64_t seed, double min_epsilon,
+         const std::string& model, double mu, int edges, double mu_t, const std::string& torque_reference,
+         const py::handle& excluded) {
+        const icr::ContactModel contact = contactModel(model, mu, edges, mu_t);
+        std::vector<std::uint8_t> mask = exclusionMask(mesh, excluded);
+        const icr::TorqueReference reference = torqueReference(torque_reference);
+        icr::GraspSamplingParameters params;
+        params.fingers = fingers;
+        params.count = count;
+        params.seed = seed;
+        params.min_epsilon = min_epsilon;
+        std::vector<icr::SampledGrasp> grasps;
+        {
+          py::gil_scoped_release release;
+          const icr::GraspableObject object = icr::GraspableObject::withDefaultFrame(mesh, std::move(mask), reference);
+          grasps = icr::sampleForceClosureGrasps(object, contact, params);
+        }
+        py::list out;
+        for (const icr::SampledGrasp& g : grasps)
+          out.append(py::dict(py::arg("contacts") = g.contacts, py::arg("epsilon") = g.epsilon));
+        return out;
+      },
+      py::arg("mesh"), py::arg("fingers") = 4, py::arg("count") = 200, py::arg("seed") = 1,
+      py::arg("min_epsilon") = 0.0, py::arg("model") = "frictional", py::arg("mu") = 0.8, py::arg("edges") = 8,
+      py::arg("mu_t") = 0.5, py::arg("torque_reference") = "origin", py::arg("excluded") = py::none(),
+      "Random force-closure grasps (deterministic for a seed, whatever the thread count), as `icrkit grasps`: a list "
+      "of dicts {contacts, epsilon}.");
+}
+
+}  // namespace icrkit::python
