@@ -1,5 +1,5 @@
 # Type stubs of the icrkit package, so that editors complete the API.
-from typing import Any, Dict, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -61,6 +61,13 @@ def independent_contact_regions(
     normal_uncertainty: Optional[float] = ...,
     position_uncertainty: Optional[float] = ...,
     patch_radius: Optional[float] = ...,
+) -> Dict[str, Any]: ...
+def reconstruct(
+    input: str,
+    poses: str = ...,
+    intrinsics: Optional[Sequence[float]] = ...,
+    depth_scale: Optional[float] = ...,
+    progress: Optional[Callable[[str, int, int], None]] = ...,
 ) -> Dict[str, Any]: ...
 def sample_grasps(
     mesh: TriangleMesh,

@@ -11,6 +11,7 @@
 #include <icrkit/ndt/preselection.hpp>
 #include <icrkit/ndt/smoothing.hpp>
 #include <icrkit/reconstruction/ball_pivoting.hpp>
+#include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -89,9 +90,76 @@ py::dict resultToDict(const icr::IcrResult& r) {
   return out;
 }
 
+py::dict meshingReport(const reconstruction::BallPivotingReport& r) {
+  return py::dict(py::arg("triangles") = r.triangles, py::arg("used_points") = r.used_points,
+                  py::arg("boundary_loops") = r.boundary_loops, py::arg("components") = r.components,
+                  py::arg("non_manifold_edges") = r.non_manifold_edges, py::arg("reinserted_points") = r.reinserted_points);
+}
+
+py::array_t<double> posesArray(const std::vector<Eigen::Isometry3d>& poses) {
+  py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{4}, py::ssize_t{4}});
+  auto view = out.mutable_unchecked<3>();
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) view(static_cast<py::ssize_t>(k), i, j) = poses[k].matrix()(i, j);
+  return out;
+}
+
 }  // namespace
 
 void bindAlgorithms(py::module_& m) {
+  m.def(
+      "reconstruct",
+      [](const std::string& input, const std::string& poses, std::optional<std::vector<double>> intrinsics,
+         std::optional<double> depth_scale, const py::object& progress) {
+        reconstruction::ReconstructionParameters params;
+        params.pose_file = poses;
+        if (intrinsics) {
+          if (intrinsics->size() != 4) throw py::value_error("intrinsics: expected (fx, fy, cx, cy) in pixels");
+          CameraIntrinsics camera;
+          camera.fx = (*intrinsics)[0];
+          camera.fy = (*intrinsics)[1];
+          camera.cx = (*intrinsics)[2];
+          camera.cy = (*intrinsics)[3];
+          params.depth_camera.intrinsics = camera;
+        }
+        if (depth_scale) params.depth_camera.depth_scale = *depth_scale;
+        ProgressCallback callback;
+        if (!progress.is_none())
+          callback = [progress](const std::string& stage, std::size_t done, std::size_t total) {
+            py::gil_scoped_acquire acquire;  // called from worker threads
+            progress(stage, done, total);
+          };
+        reconstruction::ReconstructionResult r;
+        {
+          py::gil_scoped_release release;
+          r = reconstruction::reconstructRawlog(input, params, callback);
+        }
+        py::dict report;
+        report["scans"] = r.poses.size();
+        report["pose_matching"] = r.pose_matching;
+        report["scan_spacing_m"] = r.scan_spacing_m;
+        report["raw_mesh"] = meshingReport(r.raw_meshing);
+        report["filtered_mesh"] = meshingReport(r.filtered_meshing);
+        report["time_ms"] = r.times.total_ms;
+        py::dict out;
+        out["cloud"] = std::move(r.cloud);
+        out["raw_mesh"] = std::move(r.raw_mesh);
+        out["filtered_mesh"] = std::move(r.filtered_mesh);
+        out["poses"] = posesArray(r.poses);
+        out["reported_poses"] = posesArray(r.reported_poses);
+        out["report"] = report;
+        return out;
+      },
+      py::arg("input"), py::arg("poses") = "", py::arg("intrinsics") = py::none(), py::arg("depth_scale") = py::none(),
+      py::arg("progress") = py::none(),
+      "The reconstruction pipeline of `icrkit reconstruct` on an MRPT rawlog or a TUM RGB-D folder: registration, "
+      "fusion, raw and filtered meshes. `poses`: a TUM pose file (a folder's reported poses); `intrinsics`: "
+      "(fx, fy, cx, cy) pixels; `depth_scale`: depth counts per metre; `progress(stage, done, total)` is called "
+      "from worker threads (with the GIL). Returns a dict: cloud (PointCloud), raw_mesh, filtered_mesh "
+      "(TriangleMesh), poses and reported_poses ((K, 4, 4) sensor poses, MRPT axes), report (counts, loops, "
+      "components, time). docs/reconstruction.md.");
+
   m.def(
       "smooth",
       [](const py::handle& points, const py::handle& normals, std::optional<double> radius, double radius_factor,

@@ -159,3 +159,23 @@ def test_the_gil_is_released_during_long_calls():
     during = [x for x in ticks if start <= x <= start + elapsed]
     if elapsed > 0.05:
         assert len(during) > 5, "another Python thread could not run while icrkit worked"
+
+
+@pytest.mark.skipif(not ICRKIT, reason="the icrkit command is needed for the comparison (ICRKIT unset)")
+def test_reconstruct_the_real_recording_as_the_command_does():
+    rawlog = os.path.join(DATA, "primesense-bunny", "scans.rawlog")
+    if not os.path.exists(rawlog):
+        pytest.skip("shared data not found: " + rawlog)
+    stages = set()
+    result = icrkit.reconstruct(rawlog, progress=lambda stage, done, total: stages.add(stage))
+    assert {"registration", "filtered mesh"} <= stages
+    report = result["report"]
+    assert report["scans"] == len(result["poses"]) and result["poses"].shape[1:] == (4, 4)
+    assert report["filtered_mesh"]["non_manifold_edges"] == 0
+    assert "normal_sigma" in result["filtered_mesh"].attributes
+    with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run([ICRKIT, "reconstruct", rawlog, "-o", tmp, "--quiet"], check=True, capture_output=True)
+        for name in ("raw", "filtered"):
+            cli = icrkit.read_mesh(os.path.join(tmp, name + ".ply"))
+            py = result[name + "_mesh"]
+            assert np.array_equal(cli.vertices, py.vertices) and np.array_equal(cli.faces, py.faces), name
