@@ -5,6 +5,9 @@ and radians. Bad input raises ValueError with the same message as the
 `icrkit` command; an internal error raises RuntimeError.
 """
 
+import json as _json
+
+from ._icrkit import _evaluate
 from ._icrkit import (  # noqa: F401
     PointCloud,
     TriangleMesh,
@@ -19,7 +22,32 @@ from ._icrkit import (  # noqa: F401
     write_point_cloud,
 )
 
+
+
+def evaluate(cad, raw, filtered, name="dataset", grasps=200, fingers=(4, 5), seed=1, alpha=0.8, mu=0.8, edges=8,
+             preselection=True, align=None, conservative=None, picks=20):
+    """The paper's experiment (`icrkit evaluate`) on one object.
+
+    `cad`, `raw`, `filtered`: TriangleMesh with unit vertex normals, in one
+    frame (metres), or align="icp" to align raw and filtered to the CAD mesh
+    first. `preselection`: honour the filtered mesh's `excluded` attribute.
+    `conservative`: a list of K for uncertainty-aware growth beside the plain
+    one. Returns a dict: `records` (one dict per grasp, the fields of
+    grasps.jsonl), `table1`, `eligibility` and `growth` (as table1.json,
+    eligibility.json and conservative.json). docs/evaluation.md."""
+    lines, table, eligibility, growth = _evaluate(
+        cad, raw, filtered, name, grasps, list(fingers), seed, alpha, mu, edges, preselection, align or "none",
+        list(conservative or []), picks)
+    return {
+        "records": [_json.loads(line) for line in lines],
+        "table1": _json.loads(table),
+        "eligibility": _json.loads(eligibility),
+        "growth": _json.loads(growth),
+    }
+
+
 __all__ = [
+    "evaluate",
     "PointCloud",
     "TriangleMesh",
     "ball_pivoting",

@@ -82,3 +82,19 @@ def sample_grasps(
     torque_reference: str = ...,
     excluded: Optional[npt.ArrayLike] = ...,
 ) -> List[Dict[str, Any]]: ...
+def evaluate(
+    cad: TriangleMesh,
+    raw: TriangleMesh,
+    filtered: TriangleMesh,
+    name: str = ...,
+    grasps: int = ...,
+    fingers: Sequence[int] = ...,
+    seed: int = ...,
+    alpha: float = ...,
+    mu: float = ...,
+    edges: int = ...,
+    preselection: bool = ...,
+    align: Optional[str] = ...,
+    conservative: Optional[Sequence[float]] = ...,
+    picks: int = ...,
+) -> Dict[str, Any]: ...

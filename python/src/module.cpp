@@ -11,6 +11,7 @@ namespace py = pybind11;
 namespace icrkit::python {
 void bindGeometry(py::module_& m);
 void bindAlgorithms(py::module_& m);
+void bindEvaluation(py::module_& m);
 }  // namespace icrkit::python
 
 PYBIND11_MODULE(_icrkit, m) {
@@ -24,4 +25,5 @@ PYBIND11_MODULE(_icrkit, m) {
   });
   icrkit::python::bindGeometry(m);
   icrkit::python::bindAlgorithms(m);
+  icrkit::python::bindEvaluation(m);
 }

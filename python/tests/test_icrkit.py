@@ -179,3 +179,33 @@ def test_reconstruct_the_real_recording_as_the_command_does():
             cli = icrkit.read_mesh(os.path.join(tmp, name + ".ply"))
             py = result[name + "_mesh"]
             assert np.array_equal(cli.vertices, py.vertices) and np.array_equal(cli.faces, py.faces), name
+
+
+@pytest.mark.skipif(not ICRKIT, reason="the icrkit command is needed for the comparison (ICRKIT unset)")
+def test_evaluate_gives_the_commands_records_and_table():
+    model = os.path.join(DATA, "icr-models", "Fish_5k.obj")
+    if not os.path.exists(model):
+        pytest.skip("shared data not found: " + model)
+    cad = icrkit.read_mesh(model)
+    # A reconstruction stand-in: the same surface, vertices moved 0.3 mm along their normals.
+    rng = np.random.default_rng(2)
+    moved = cad.vertices + 0.0003 * rng.standard_normal((len(cad.vertices), 1)) * cad.normals
+    noisy = icrkit.TriangleMesh(np.ascontiguousarray(moved), cad.faces, cad.normals)
+    noisy.set_attribute("normal_sigma", np.full(len(moved), 0.01))
+    noisy.set_attribute("position_sigma", np.full(len(moved), 0.0003))
+    with tempfile.TemporaryDirectory() as tmp:
+        noisy_path = os.path.join(tmp, "noisy.ply")
+        icrkit.write_mesh(noisy_path, noisy)
+        py = icrkit.evaluate(cad, icrkit.read_mesh(noisy_path), icrkit.read_mesh(noisy_path), name="Fish_5k",
+                             grasps=4, fingers=(4,), conservative=[0.5])
+        subprocess.run([ICRKIT, "evaluate", "--cad", model, "--raw", noisy_path, "--filtered", noisy_path,
+                        "--grasps", "4", "--fingers", "4", "--conservative=0.5", "--renders", "0", "-o",
+                        os.path.join(tmp, "run"), "--quiet"], check=True, capture_output=True)
+        with open(os.path.join(tmp, "run", "grasps.jsonl")) as f:
+            cli = [json.loads(line) for line in f if line.strip()]
+        with open(os.path.join(tmp, "run", "table1.json")) as f:
+            cli_table = json.load(f)
+    assert py["records"] == cli
+    assert py["table1"] == cli_table
+    assert any(r["evaluated"] for r in py["records"])
+    assert py["growth"]["sigmas"] == [0.5]
