@@ -16,6 +16,10 @@ packages=(
   liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libtbb-dev libfmt-dev libspdlog-dev
   # MRPT's sample datasets: the reader test loads its tests_rgbd.rawlog.
   mrpt-common
+  # The icrkit Python package (python/) and its tests, for the system python3.
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  # ... and its examples (examples/python: a matplotlib plot, Open3D interop).
+  python3-matplotlib python3-open3d
 )
 
 # Optional tools, keyed by the command they provide (a Node.js install from
@@ -25,11 +29,20 @@ packages=(
 #             `icrkit report` (without it the report says the viewer is unavailable)
 #   chromium  the headless-browser checks of tests/cli_report.sh (skipped
 #             without it); set ICRKIT_INSTALL_BROWSER=0 to leave it out
+#   slurmctld, munged (Debian slurm-wlm, munge)  tests/slurm_study.sh runs the
+#             job scripts of docs/scaling.md (scripts/slurm/) on a single-node
+#             Slurm it configures, starts and stops itself (skipped without
+#             them; it uses none of the packages' system services); set
+#             ICRKIT_INSTALL_SLURM=0 to leave them out
 optional=()
 command -v npm >/dev/null 2>&1 || optional+=(npm)
 if [ "${ICRKIT_INSTALL_BROWSER:-1}" != "0" ] && ! command -v chromium >/dev/null 2>&1 &&
    ! command -v chromium-browser >/dev/null 2>&1; then
   optional+=(chromium)
+fi
+if [ "${ICRKIT_INSTALL_SLURM:-1}" != "0" ]; then  # sbin tools: not on a user's PATH
+  command -v slurmctld >/dev/null 2>&1 || [ -x /usr/sbin/slurmctld ] || optional+=(slurm-wlm)
+  command -v munged >/dev/null 2>&1 || [ -x /usr/sbin/munged ] || optional+=(munge)
 fi
 
 missing=()
