@@ -232,8 +232,10 @@ merged = json.load(open('$merged/run.json'))
 assert merged.pop('merged_from') == ['$work/study/shard-0', '$work/study/shard-1', '$work/study/shard-2'], 'merged_from'
 assert full == merged, 'run.json differs'
 " || fail "merged run.json differs from the unsharded one beyond merged_from"
-# The unsharded run's renders are among the merged ones, identical (the merge
-# keeps every shard's renders: a shard renders its own first evaluated grasp).
+# The renders: the same files, identical (each shard renders the first
+# evaluated grasps of its block; the merge keeps those an unsharded run renders).
+[ "$(ls "$work/full/renders")" = "$(ls "$merged/renders")" ] ||
+  fail "merged renders differ from the unsharded run's: $(ls "$merged/renders" | tr '\n' ' ')"
 for f in "$work/full/renders/"*.png; do
   cmp -s "$f" "$merged/renders/$(basename "$f")" || fail "merged render $(basename "$f") differs or is missing"
 done

@@ -89,6 +89,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
                      {"config", experimentConfigJson(config)},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"align", o.experiment.align},
+                     {"renders", o.experiment.renders},
                      {"preselection_rule", o.experiment.preselectionName()},
                      {"datasets",
                       {{{"name", name},
@@ -207,13 +208,32 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
         study.at("noise_levels").get<std::vector<double>>(), study.at("rules").get<std::vector<std::string>>());
     for (const std::string& f : eval::writeSensitivityOutputs(o.output, table)) files.push_back(f);
   }
-  // Each shard rendered grasps of its own block; the merged folder keeps them all.
+  // Each shard rendered the first evaluated grasps of its own block; the
+  // merged folder keeps those an unsharded run renders (the first `renders`
+  // evaluated grasps of each dataset), so that it equals that run's folder.
+  // Runs from before run.json recorded the count keep every shard's renders.
+  std::set<std::string> wanted;
+  const bool filter = first.contains("renders");
+  if (filter) {
+    std::map<std::string, long> left;
+    for (const eval::GraspRecord& r : records) {
+      if (!r.evaluated) continue;
+      long& n = left.try_emplace(r.dataset, first.at("renders").get<long>()).first->second;
+      if (n-- > 0) wanted.insert(r.dataset + "_" + std::to_string(r.fingers) + "fingers_grasp" + std::to_string(r.index) + "_");
+    }
+  }
+  const auto keep = [&](const std::string& file) {
+    if (!filter) return true;
+    for (const std::string& stem : wanted)
+      if (file.rfind(stem, 0) == 0) return true;
+    return false;
+  };
   for (const std::string& input : o.inputs) {
     const fs::path from = fs::path(input) / "renders";
     if (!fs::is_directory(from)) continue;
-    fs::create_directories(fs::path(o.output) / "renders");
     for (const auto& entry : fs::directory_iterator(from)) {
-      if (entry.path().extension() != ".png") continue;
+      if (entry.path().extension() != ".png" || !keep(entry.path().filename().string())) continue;
+      fs::create_directories(fs::path(o.output) / "renders");
       const fs::path to = fs::path(o.output) / "renders" / entry.path().filename();
       fs::copy_file(entry.path(), to, fs::copy_options::overwrite_existing);
       files.push_back(to.string());

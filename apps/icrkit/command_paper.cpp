@@ -175,6 +175,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
                      {"preselection_rule", o.experiment.preselectionName()},
                      {"mesh_kept_points_only", o.mesh_kept_points_only},
                      {"align", o.experiment.align},
+                     {"renders", o.experiment.renders},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"datasets", names}};
   eval::ExperimentOutputs outputs;
