@@ -81,7 +81,7 @@ void run(const GraspsOptions& options, CommandContext& context) {
       {"grasps_per_second",
        statistics.time_ms > 0 ? static_cast<double>(grasps.size()) / (statistics.time_ms / 1000.0) : 0.0},
       {"model", contactModelJson(model)},
-      {"torque_reference", torqueReferenceName(options.mesh.torque_reference)},
+      {"torque_reference", icr::torqueReferenceName(options.mesh.torque_reference)},
       {"normals", input.normals_computed ? "computed" : "file"},
       {"exclusion", input.exclusion_source},
       {"excluded_vertices", countExcluded(input.excluded)},

@@ -226,7 +226,7 @@ void run(const IcrOptions& options, CommandContext& context) {
       {"conservative", conservativeJson(params.conservative)},
       {"patch", patch ? nlohmann::json{{"rule", "sphere"}, {"radius_m", patch->radius_m}, {"filter_border", patch->filter_border}}
                       : nlohmann::json(nullptr)},
-      {"torque_reference", torqueReferenceName(options.mesh.torque_reference)},
+      {"torque_reference", icr::torqueReferenceName(options.mesh.torque_reference)},
       {"normals", input.normals_computed ? "computed" : "file"},
       {"exclusion", input.exclusion_source},
       {"excluded_vertices", countExcluded(input.excluded)},

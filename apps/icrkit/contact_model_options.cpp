@@ -11,18 +11,15 @@
 namespace icrkit::app {
 namespace {
 
-const std::map<std::string, icr::ContactType> kContactTypes{{"frictional", icr::ContactType::Frictional},
-                                                            {"frictionless", icr::ContactType::Frictionless},
-                                                            {"soft", icr::ContactType::SoftFinger}};
+// The library's names, as CLI11 checks them.
+const std::map<std::string, icr::ContactType> kContactTypes{
+    {icr::contactTypeName(icr::ContactType::Frictional), icr::ContactType::Frictional},
+    {icr::contactTypeName(icr::ContactType::Frictionless), icr::ContactType::Frictionless},
+    {icr::contactTypeName(icr::ContactType::SoftFinger), icr::ContactType::SoftFinger}};
 
-const std::map<std::string, icr::TorqueReference> kTorqueReferences{{"origin", icr::TorqueReference::Origin},
-                                                                    {"centroid", icr::TorqueReference::Centroid}};
-
-const char* contactTypeName(icr::ContactType type) {
-  for (const auto& [name, value] : kContactTypes)
-    if (value == type) return name.c_str();
-  return "unknown";
-}
+const std::map<std::string, icr::TorqueReference> kTorqueReferences{
+    {icr::torqueReferenceName(icr::TorqueReference::Origin), icr::TorqueReference::Origin},
+    {icr::torqueReferenceName(icr::TorqueReference::Centroid), icr::TorqueReference::Centroid}};
 
 // One 0/1 per line; blank lines (e.g. a final newline) are ignored so that
 // files written by common tools load.
@@ -71,7 +68,7 @@ icr::ContactModel ContactModelOptions::model() const {
 }
 
 nlohmann::json contactModelJson(const icr::ContactModel& model) {
-  nlohmann::json out{{"type", contactTypeName(model.type)}, {"force_n", model.force}};
+  nlohmann::json out{{"type", icr::contactTypeName(model.type)}, {"force_n", model.force}};
   if (model.type == icr::ContactType::Frictionless) return out;
   out["mu"] = model.friction;
   out["edges"] = model.cone_edges;
@@ -128,10 +125,6 @@ InputError namingMesh(const std::string& path, const InputError& error) {
 
 std::size_t countExcluded(const std::vector<std::uint8_t>& mask) {
   return static_cast<std::size_t>(std::count_if(mask.begin(), mask.end(), [](std::uint8_t f) { return f != 0; }));
-}
-
-const char* torqueReferenceName(icr::TorqueReference reference) {
-  return reference == icr::TorqueReference::Centroid ? "centroid" : "origin";
 }
 
 CLI::Validator atLeast(long long minimum) {

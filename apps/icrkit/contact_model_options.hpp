@@ -64,8 +64,6 @@ InputError namingMesh(const std::string& path, const InputError& error);
 /// Number of non-zero flags.
 std::size_t countExcluded(const std::vector<std::uint8_t>& mask);
 
-const char* torqueReferenceName(icr::TorqueReference reference);
-
 /// A CLI11 check for integers >= `minimum`.
 CLI::Validator atLeast(long long minimum);
 

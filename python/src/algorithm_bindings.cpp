@@ -21,8 +21,6 @@
 
 namespace icrkit::python {
 
-PointCloud cloudFromPython(const py::handle& points, const py::handle& normals);
-
 namespace {
 
 PointCloud asCloud(const py::handle& points, const py::handle& normals) {
@@ -36,25 +34,12 @@ PointCloud asCloud(const py::handle& points, const py::handle& normals) {
 
 icr::ContactModel contactModel(const std::string& model, double mu, int edges, double mu_t) {
   icr::ContactModel m;
-  if (model == "frictional")
-    m.type = icr::ContactType::Frictional;
-  else if (model == "frictionless")
-    m.type = icr::ContactType::Frictionless;
-  else if (model == "soft")
-    m.type = icr::ContactType::SoftFinger;
-  else
-    throw InputError("model", "", "expected frictional, frictionless or soft, got '" + model + "'");
+  m.type = icr::parseContactType(model);
   m.friction = mu;
   m.cone_edges = edges;
   m.torsional_friction = mu_t;
   m.validate();
   return m;
-}
-
-icr::TorqueReference torqueReference(const std::string& name) {
-  if (name == "origin") return icr::TorqueReference::Origin;
-  if (name == "centroid") return icr::TorqueReference::Centroid;
-  throw InputError("torque_reference", "", "expected origin or centroid, got '" + name + "'");
 }
 
 std::vector<std::uint8_t> exclusionMask(const TriangleMesh& mesh, const py::handle& excluded) {
@@ -223,7 +208,7 @@ void bindAlgorithms(py::module_& m) {
           params.conservative->position_offset = position_uncertainty;
         }
         std::vector<std::uint8_t> mask = exclusionMask(mesh, excluded);
-        const icr::TorqueReference reference = torqueReference(torque_reference);
+        const icr::TorqueReference reference = icr::parseTorqueReference(torque_reference);
         py::gil_scoped_release release;
         const icr::GraspableObject object = icr::GraspableObject::withDefaultFrame(mesh, std::move(mask), reference);
         icr::IcrResult result;
@@ -257,7 +242,7 @@ void bindAlgorithms(py::module_& m) {
          const py::handle& excluded) {
         const icr::ContactModel contact = contactModel(model, mu, edges, mu_t);
         std::vector<std::uint8_t> mask = exclusionMask(mesh, excluded);
-        const icr::TorqueReference reference = torqueReference(torque_reference);
+        const icr::TorqueReference reference = icr::parseTorqueReference(torque_reference);
         icr::GraspSamplingParameters params;
         params.fingers = fingers;
         params.count = count;

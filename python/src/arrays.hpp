@@ -3,6 +3,8 @@
 // expected, and views (no copies) onto the data of a C++ object that a
 // Python object keeps alive.
 
+#include <icrkit/core/point_cloud.hpp>
+
 #include <Eigen/Core>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -55,5 +57,9 @@ inline py::array_t<double> copyOf(const std::vector<Eigen::Vector3d>& vectors) {
     for (int k = 0; k < 3; ++k) data[3 * i + static_cast<std::size_t>(k)] = vectors[i][k];
   return out;
 }
+
+/// A PointCloud from (N, 3) arrays of points and, unless None, normals
+/// (geometry_bindings.cpp).
+PointCloud cloudFromPython(const py::handle& points, const py::handle& normals);
 
 }  // namespace icrkit::python

@@ -35,7 +35,9 @@ void setAttribute(AttributeSet& attributes, std::size_t count, const std::string
   attributes.add(name, ScalarType::Float32, std::move(v));
 }
 
-PointCloud makeCloud(const py::handle& points, const py::handle& normals) {
+}  // namespace
+
+PointCloud cloudFromPython(const py::handle& points, const py::handle& normals) {
   PointCloud cloud;
   cloud.positions = toVectors(points, "points");
   if (!normals.is_none()) {
@@ -47,15 +49,11 @@ PointCloud makeCloud(const py::handle& points, const py::handle& normals) {
   return cloud;
 }
 
-}  // namespace
-
-PointCloud cloudFromPython(const py::handle& points, const py::handle& normals) { return makeCloud(points, normals); }
-
 void bindGeometry(py::module_& m) {
   py::class_<PointCloud>(m, "PointCloud",
                          "Points (metres), optional unit normals and named per-point attributes. `points` and "
                          "`normals` are (N, 3) float64 views onto the C++ arrays.")
-      .def(py::init([](const py::handle& points, const py::handle& normals) { return makeCloud(points, normals); }),
+      .def(py::init([](const py::handle& points, const py::handle& normals) { return cloudFromPython(points, normals); }),
            py::arg("points"), py::arg("normals") = py::none())
       .def_property_readonly("points", [](py::object self) { return viewOf(self.cast<PointCloud&>().positions, self); })
       .def_property_readonly("normals",
@@ -79,7 +77,7 @@ void bindGeometry(py::module_& m) {
                            "counter-clockwise seen from outside. Arrays are views onto the C++ data.")
       .def(py::init([](const py::handle& vertices, const py::handle& faces, const py::handle& normals) {
              TriangleMesh mesh;
-             mesh.vertices = makeCloud(vertices, normals);
+             mesh.vertices = cloudFromPython(vertices, normals);
              const py::array_t<int, py::array::c_style> f = py::array_t<int, py::array::c_style>::ensure(faces);
              if (!f || f.ndim() != 2 || f.shape(1) != 3)
                throw py::value_error("faces: expected an integer array of shape (M, 3)");

@@ -109,6 +109,18 @@ double surfaceArea(const TriangleMesh& mesh) {
   return std::accumulate(areas.begin(), areas.end(), 0.0);
 }
 
+std::vector<std::uint8_t> boundaryVertices(const TriangleMesh& mesh) {
+  std::vector<std::uint8_t> boundary(mesh.vertexCount(), 0);
+  const auto edges = sortedFaceEdges(mesh);
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) ++j;
+    if (j - i == 1) boundary[static_cast<std::size_t>(edges[i].a)] = boundary[static_cast<std::size_t>(edges[i].b)] = 1;
+    i = j;
+  }
+  return boundary;
+}
+
 EdgeStatistics edgeStatistics(const TriangleMesh& mesh) {
   const auto edges = sortedFaceEdges(mesh);
   EdgeStatistics stats;

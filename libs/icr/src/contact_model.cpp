@@ -26,6 +26,21 @@ std::size_t ContactModel::wrenchesPerContact() const {
   return 0;
 }
 
+const char* contactTypeName(ContactType type) {
+  switch (type) {
+    case ContactType::Frictionless: return "frictionless";
+    case ContactType::Frictional: return "frictional";
+    case ContactType::SoftFinger: return "soft";
+  }
+  return "unknown";
+}
+
+ContactType parseContactType(const std::string& name) {
+  for (ContactType type : {ContactType::Frictional, ContactType::Frictionless, ContactType::SoftFinger})
+    if (name == contactTypeName(type)) return type;
+  throw InputError("contact model", "", "expected frictional, frictionless or soft, got '" + name + "'");
+}
+
 std::vector<LocalPrimitive> localPrimitives(const ContactModel& model) {
   model.validate();
   const double f = model.force;

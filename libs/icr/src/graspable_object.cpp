@@ -1,9 +1,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/icr/graspable_object.hpp>
 
-#include <algorithm>
 #include <cmath>
-#include <utility>
 #include <string>
 
 namespace icrkit::icr {
@@ -40,21 +38,7 @@ GraspableObject::GraspableObject(const TriangleMesh& mesh, const WrenchFrame& fr
   if (!(frame.lambda > 0) || !std::isfinite(frame.lambda))
     throw InputError("wrench frame", "", "lambda must be positive, got " + std::to_string(frame.lambda));
   adjacency_ = vertexAdjacency(mesh);
-  boundary_.assign(n, 0);
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(mesh.faces.size() * 3);
-  for (const Triangle& f : mesh.faces)
-    for (int k = 0; k < 3; ++k) {
-      const int a = static_cast<int>(f[k]), b = static_cast<int>(f[(k + 1) % 3]);
-      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) boundary_[static_cast<std::size_t>(edges[i].first)] = boundary_[static_cast<std::size_t>(edges[i].second)] = 1;
-    i = j;
-  }
+  boundary_ = boundaryVertices(mesh);
 }
 
 GraspableObject GraspableObject::withDefaultFrame(const TriangleMesh& mesh, std::vector<std::uint8_t> excluded,

@@ -13,10 +13,8 @@
 namespace icrkit::icr {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using detail::Clock;
+using detail::millisecondsSince;
 
 // The conservative test's pieces, shared by every vertex of one grasp.
 struct ConservativeTest {
@@ -162,9 +160,7 @@ GraspWrenchSpace graspWrenchSpace(const GraspableObject& object, const std::vect
 IcrResult computeIndependentContactRegions(const GraspableObject& object, const std::vector<int>& contacts,
                                            const IcrParameters& params) {
   const auto start = Clock::now();
-  detail::checkPrototypeContacts(object, contacts);
-  if (params.tws_radius <= 0 && !params.tws_wrenches && !(params.alpha > 0 && params.alpha <= 1))
-    throw InputError("task wrench space", "", "alpha must be in (0, 1], got " + std::to_string(params.alpha));
+  detail::checkPrototype(object, contacts, params);
 
   IcrResult result;
   result.lambda_m = object.frame().lambda;
@@ -178,10 +174,7 @@ IcrResult computeIndependentContactRegions(const GraspableObject& object, const 
   result.gws_facets = gws.facetCount();
 
   phase = Clock::now();
-  const TaskWrenchSpace tws = params.tws_wrenches ? TaskWrenchSpace::polytope(*params.tws_wrenches)
-                              : params.tws_radius > 0 ? TaskWrenchSpace::ball(params.tws_radius)
-                                                      : TaskWrenchSpace::ball(params.alpha * gws.epsilon);
-  tws.requireInside(gws);
+  const TaskWrenchSpace tws = detail::taskWrenchSpaceFor(params, gws);
   result.tws_radius = tws.radius();
   const SearchZones zones = computeSearchZones(gws, tws, contacts.size(), generator.perContact());
   result.timings.zones_ms = millisecondsSince(phase);

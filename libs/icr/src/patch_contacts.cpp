@@ -18,10 +18,8 @@
 namespace icrkit::icr {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
+using detail::Clock;
+using detail::millisecondsSince;
 
 // Per grasp: the wrenches of each patch point, computed the first time a
 // patch holding the point is tested, with a dense slot per computed point.
@@ -73,32 +71,19 @@ private:
 class PatchZoneTester {
 public:
   PatchZoneTester(const SearchZones& zones, PointWrenches& wrenches) : wrenches_(wrenches) {
-    fingers_.resize(zones.by_finger.size());
-    std::vector<int> row_of(zones.thresholds.size(), -1);
-    for (std::size_t finger = 0; finger < zones.by_finger.size(); ++finger) {
-      const std::vector<int>& facets = zones.finger_facets[finger];
-      Finger& local = fingers_[finger];
-      local.normals.resize(static_cast<Eigen::Index>(facets.size()), 6);
-      local.thresholds.resize(static_cast<Eigen::Index>(facets.size()));
-      for (std::size_t r = 0; r < facets.size(); ++r) {
-        local.normals.row(static_cast<Eigen::Index>(r)) = zones.normals.col(facets[r]).transpose();
-        local.thresholds(static_cast<Eigen::Index>(r)) = zones.thresholds[static_cast<std::size_t>(facets[r])];
-        row_of[static_cast<std::size_t>(facets[r])] = static_cast<int>(r);
-      }
-      for (const SearchZone& zone : zones.by_finger[finger]) {
-        std::vector<int> rows(zone.facets.size());
-        for (std::size_t k = 0; k < zone.facets.size(); ++k) rows[k] = row_of[static_cast<std::size_t>(zone.facets[k])];
-        local.zone_rows.push_back(std::move(rows));
-      }
-      local.zone_order.resize(local.zone_rows.size());
+    for (FingerFacetRows& rows : fingerFacetRows(zones)) {
+      Finger local;
+      local.zone_order.resize(rows.zone_rows.size());
       for (std::size_t z = 0; z < local.zone_order.size(); ++z) local.zone_order[z] = z;
+      local.rows = std::move(rows);
+      fingers_.push_back(std::move(local));
     }
   }
 
   /// True when every zone of `finger` holds a wrench of some point of `patch`.
   bool qualifies(std::size_t finger, const std::vector<int>& patch) {
     Finger& local = fingers_[finger];
-    const std::size_t zones = local.zone_rows.size();
+    const std::size_t zones = local.rows.zone_rows.size();
     slots_.clear();
     for (int point : patch) slots_.push_back(wrenches_.slot(point));
     local.known.resize(wrenches_.computed() * zones, kUnknown);
@@ -129,37 +114,16 @@ public:
 private:
   static constexpr std::uint8_t kUnknown = 0, kHeld = 1, kNotHeld = 2;
   struct Finger {
-    // One row per facet the finger's zones use (row-major: a facet's normal
-    // is one contiguous read).
-    Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> normals;
-    Eigen::VectorXd thresholds;
-    std::vector<std::vector<int>> zone_rows;  // per zone, rows of `normals`; a rejecting facet moves to the front
+    FingerFacetRows rows;
     std::vector<std::size_t> zone_order;
     std::vector<std::uint8_t> known;  // per (point slot, zone): kUnknown, kHeld or kNotHeld
   };
 
   // Whether one of the point's wrenches holds the zone.
   bool pointHolds(Finger& local, std::size_t zone, int slot) {
-    std::vector<int>& rows = local.zone_rows[zone];
-    const double* normals = local.normals.data();
-    const double* thresholds = local.thresholds.data();
     const double* point = wrenches_.of(slot);
-    for (std::size_t column = 0; column < wrenches_.perPoint(); ++column) {
-      const double* w = point + 6 * column;
-      bool holds = true;
-      for (std::size_t k = 0; k < rows.size(); ++k) {
-        const int r = rows[k];
-        const double* n = normals + 6 * r;
-        const double margin =
-            n[0] * w[0] + n[1] * w[1] + n[2] * w[2] + n[3] * w[3] + n[4] * w[4] + n[5] * w[5] - thresholds[r];
-        if (margin < 0.0) {
-          if (k > 0) std::swap(rows[k], rows[0]);  // it will likely reject the next wrench too
-          holds = false;
-          break;
-        }
-      }
-      if (holds) return true;
-    }
+    for (std::size_t column = 0; column < wrenches_.perPoint(); ++column)
+      if (local.rows.holds(zone, point + 6 * column)) return true;
     return false;
   }
 
@@ -304,9 +268,7 @@ IcrResult computePatchContactRegions(const GraspableObject& object, const Contac
   const auto start = Clock::now();
   if (&patches.object().mesh() != &object.mesh())
     throw InputError("contact patches", "", "the patches were built on another mesh than the object's");
-  detail::checkPrototypeContacts(object, contacts);
-  if (params.tws_radius <= 0 && !params.tws_wrenches && !(params.alpha > 0 && params.alpha <= 1))
-    throw InputError("task wrench space", "", "alpha must be in (0, 1], got " + std::to_string(params.alpha));
+  detail::checkPrototype(object, contacts, params);
   // Its bound would have to cover every patch point's uncertainty: not derived yet.
   if (params.conservative)
     throw InputError("contact patches", "", "conservative growth is not available with patch contacts");
@@ -325,10 +287,7 @@ IcrResult computePatchContactRegions(const GraspableObject& object, const Contac
   result.gws_facets = gws.facetCount();
 
   phase = Clock::now();
-  const TaskWrenchSpace tws = params.tws_wrenches ? TaskWrenchSpace::polytope(*params.tws_wrenches)
-                              : params.tws_radius > 0 ? TaskWrenchSpace::ball(params.tws_radius)
-                                                      : TaskWrenchSpace::ball(params.alpha * gws.epsilon);
-  tws.requireInside(gws);
+  const TaskWrenchSpace tws = detail::taskWrenchSpaceFor(params, gws);
   result.tws_radius = tws.radius();
   const SearchZones zones = computeSearchZones(gws, tws, contacts.size(), finger_of_wrench);
   result.timings.zones_ms = millisecondsSince(phase);

@@ -6,7 +6,7 @@
 
 namespace icrkit::icr::detail {
 
-void checkPrototypeContacts(const GraspableObject& object, const std::vector<int>& contacts) {
+void checkPrototype(const GraspableObject& object, const std::vector<int>& contacts, const IcrParameters& params) {
   auto fail = [](const std::string& detail) { throw InputError("grasp", "", detail); };
   if (contacts.size() < 2) fail("a grasp needs at least 2 contacts, got " + std::to_string(contacts.size()));
   const long n = static_cast<long>(object.vertexCount());
@@ -22,6 +22,16 @@ void checkPrototypeContacts(const GraspableObject& object, const std::vector<int
     for (std::size_t j = 0; j < i; ++j)
       if (contacts[j] == c) fail("vertex " + std::to_string(c) + " is used by contacts " + std::to_string(j) + " and " + std::to_string(i));
   }
+  if (params.tws_radius <= 0 && !params.tws_wrenches && !(params.alpha > 0 && params.alpha <= 1))
+    throw InputError("task wrench space", "", "alpha must be in (0, 1], got " + std::to_string(params.alpha));
+}
+
+TaskWrenchSpace taskWrenchSpaceFor(const IcrParameters& params, const GraspWrenchSpace& gws) {
+  const TaskWrenchSpace tws = params.tws_wrenches ? TaskWrenchSpace::polytope(*params.tws_wrenches)
+                              : params.tws_radius > 0 ? TaskWrenchSpace::ball(params.tws_radius)
+                                                      : TaskWrenchSpace::ball(params.alpha * gws.epsilon);
+  tws.requireInside(gws);
+  return tws;
 }
 
 }  // namespace icrkit::icr::detail

@@ -50,12 +50,12 @@ SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpac
   return zones;
 }
 
-ZoneTester::ZoneTester(const SearchZones& zones) {
-  fingers_.resize(zones.by_finger.size());
+std::vector<FingerFacetRows> fingerFacetRows(const SearchZones& zones) {
+  std::vector<FingerFacetRows> fingers(zones.by_finger.size());
   std::vector<int> row_of(zones.thresholds.size(), -1);
   for (std::size_t finger = 0; finger < zones.by_finger.size(); ++finger) {
     const std::vector<int>& facets = zones.finger_facets[finger];
-    FingerFacets& local = fingers_[finger];
+    FingerFacetRows& local = fingers[finger];
     local.normals.resize(static_cast<Eigen::Index>(facets.size()), 6);
     local.thresholds.resize(static_cast<Eigen::Index>(facets.size()));
     for (std::size_t r = 0; r < facets.size(); ++r) {
@@ -68,30 +68,17 @@ ZoneTester::ZoneTester(const SearchZones& zones) {
       for (std::size_t k = 0; k < zone.facets.size(); ++k) rows[k] = row_of[static_cast<std::size_t>(zone.facets[k])];
       local.zone_rows.push_back(std::move(rows));
     }
-    local.last_wrench.assign(local.zone_rows.size(), 0);
   }
+  return fingers;
 }
 
-bool ZoneTester::holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches,
-                       double required, double* slack) {
-  std::vector<int>& rows = local.zone_rows[zone];
-  const double* w = wrenches.data() + 6 * wrench;
-  const double* normals = local.normals.data();
-  const double* thresholds = local.thresholds.data();
-  double smallest = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const int r = rows[k];
-    const double* n = normals + 6 * r;
-    const double margin =
-        n[0] * w[0] + n[1] * w[1] + n[2] * w[2] + n[3] * w[3] + n[4] * w[4] + n[5] * w[5] - thresholds[r];
-    if (margin < required) {
-      if (k > 0) std::swap(rows[k], rows[0]);
-      return false;
-    }
-    smallest = std::min(smallest, margin);
+ZoneTester::ZoneTester(const SearchZones& zones) {
+  for (FingerFacetRows& rows : fingerFacetRows(zones)) {
+    FingerFacets local;
+    local.last_wrench.assign(rows.zone_rows.size(), 0);
+    local.rows = std::move(rows);
+    fingers_.push_back(std::move(local));
   }
-  if (slack) *slack = smallest;
-  return true;
 }
 
 bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches) {
@@ -110,7 +97,7 @@ bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, const 
   // Products of O(|w|) terms carry rounding of about 1e-16 |w|; every hop
   // gives up a margin far above that, so a chain of shortcuts stays sound.
   const double margin = comparable ? 1e-12 * std::max(1.0, wrenches.cwiseAbs().maxCoeff()) : 0.0;
-  for (std::size_t z = 0; z < local.zone_rows.size(); ++z) {
+  for (std::size_t z = 0; z < local.rows.zone_rows.size(); ++z) {
     if (comparable) {
       const Eigen::Index w = neighbour->wrench[z];
       const double moved = (wrenches.col(w) - neighbour->wrenches->col(w)).norm();
@@ -126,10 +113,10 @@ bool ZoneTester::qualifies(std::size_t finger, const WrenchSet& wrenches, const 
     }
     const Eigen::Index first = local.last_wrench[z] < n ? local.last_wrench[z] : 0;
     double slack = 0.0;
-    Eigen::Index held = holds(local, z, first, wrenches, required, &slack) ? first : -1;
+    Eigen::Index held = local.rows.holds(z, wrenches.data() + 6 * first, required, &slack) ? first : -1;
     for (Eigen::Index w = 0; w < n && held < 0; ++w) {
       if (w == first) continue;
-      if (holds(local, z, w, wrenches, required, &slack)) {
+      if (local.rows.holds(z, wrenches.data() + 6 * w, required, &slack)) {
         held = w;
         local.last_wrench[z] = w;
       }

@@ -5,6 +5,16 @@
 
 namespace icrkit::icr {
 
+const char* torqueReferenceName(TorqueReference reference) {
+  return reference == TorqueReference::Centroid ? "centroid" : "origin";
+}
+
+TorqueReference parseTorqueReference(const std::string& name) {
+  if (name == "origin") return TorqueReference::Origin;
+  if (name == "centroid") return TorqueReference::Centroid;
+  throw InputError("torque reference", "", "expected origin or centroid, got '" + name + "'");
+}
+
 WrenchFrame makeWrenchFrame(const std::vector<Eigen::Vector3d>& points, TorqueReference reference) {
   if (points.empty()) throw InputError("wrench frame", "", "no points to derive the torque reference and lambda from");
   WrenchFrame frame;

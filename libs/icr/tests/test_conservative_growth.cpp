@@ -34,20 +34,6 @@ void addSigmas(TriangleMesh& mesh, double normal_sigma, double position_sigma) {
   }
 }
 
-std::vector<int> forceClosurePrototype(const GraspableObject& object, const ContactModel& model, std::size_t fingers,
-                                       double min_epsilon, std::mt19937& rng) {
-  std::uniform_int_distribution<int> vertex(0, static_cast<int>(object.vertexCount()) - 1);
-  for (int attempt = 0; attempt < 20000; ++attempt) {
-    std::set<int> distinct;
-    while (distinct.size() < fingers) distinct.insert(vertex(rng));
-    std::vector<int> contacts(distinct.begin(), distinct.end());
-    std::shuffle(contacts.begin(), contacts.end(), rng);
-    const GraspWrenchSpace gws = graspWrenchSpace(object, contacts, model);
-    if (gws.force_closure && gws.epsilon > min_epsilon) return contacts;
-  }
-  return {};
-}
-
 // A unit vector at angle `angle` from n, at a random azimuth.
 Eigen::Vector3d tilted(const Eigen::Vector3d& n, double angle, std::mt19937& rng) {
   Eigen::Vector3d any = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
@@ -146,7 +132,7 @@ TEST(ConservativeGrowth, EveryPickAtEveryNormalAndPositionWithinTheBoundsResists
     params.contact_model.friction = 0.6;
     params.alpha = 0.3;
     std::mt19937 rng(c.seed);
-    const std::vector<int> contacts = forceClosurePrototype(object, params.contact_model, c.fingers,
+    const std::vector<int> contacts = test::randomForceClosureGrasp(object, params.contact_model, c.fingers,
                                                             0.1, rng);
     ASSERT_FALSE(contacts.empty());
     params.conservative = ConservativeGrowth{};
@@ -220,7 +206,7 @@ TEST(ConservativeGrowth, ZeroBoundsGrowThePlainRegions) {
   const GraspableObject object = GraspableObject::withDefaultFrame(mesh);
   std::mt19937 rng(5);
   IcrParameters params;
-  const std::vector<int> contacts = forceClosurePrototype(object, params.contact_model, 4, 0.1, rng);
+  const std::vector<int> contacts = test::randomForceClosureGrasp(object, params.contact_model, 4, 0.1, rng);
   ASSERT_FALSE(contacts.empty());
   for (GrowthMode mode : {GrowthMode::BreadthFirst, GrowthMode::Full}) {
     params.mode = mode;
@@ -250,7 +236,7 @@ TEST(ConservativeGrowth, RegionsShrinkAsKGrowsAndMayEndEmpty) {
   std::mt19937 rng(6);
   IcrParameters params;
   params.mode = GrowthMode::Full;
-  const std::vector<int> contacts = forceClosurePrototype(object, params.contact_model, 4, 0.1, rng);
+  const std::vector<int> contacts = test::randomForceClosureGrasp(object, params.contact_model, 4, 0.1, rng);
   ASSERT_FALSE(contacts.empty());
   // The margin grows with K and the tested wrenches stay: the regions nest.
   std::vector<std::vector<int>> previous;
@@ -278,7 +264,7 @@ TEST(ConservativeGrowth, BadInputIsRefusedClearly) {
   const GraspableObject object = GraspableObject::withDefaultFrame(mesh);
   std::mt19937 rng(7);
   IcrParameters params;
-  const std::vector<int> contacts = forceClosurePrototype(object, params.contact_model, 4, 0.1, rng);
+  const std::vector<int> contacts = test::randomForceClosureGrasp(object, params.contact_model, 4, 0.1, rng);
   ASSERT_FALSE(contacts.empty());
   params.conservative = ConservativeGrowth{};
   // No sigma attributes and no fixed bounds.

@@ -4,6 +4,8 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
 
+#include "reference_data.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -18,50 +20,13 @@
 using namespace icrkit;
 using namespace icrkit::icr;
 
-namespace {
-
-struct ReferenceSetting {
-  std::string model;
-  ContactModel contact_model;
-  std::size_t fingers = 0;
-  double alpha = 0.0;
-};
-
-// "Fish_5k__frictional_mu0.8_L8_f4_a0.5.json" -> model Fish_5k, frictional, mu 0.8, L 8, 4 fingers, alpha 0.5
-bool parseSetting(const std::string& name, ReferenceSetting& s) {
-  static const std::regex pattern(
-      R"(^(.+)__(frictional|softfinger|frictionless)(?:_mu([0-9.]+))?(?:_muT([0-9.]+))?(?:_L([0-9]+))?_f([0-9]+)_a([0-9.]+)\.json$)");
-  std::smatch m;
-  if (!std::regex_match(name, m, pattern)) return false;
-  s.model = m[1];
-  const std::string type = m[2];
-  s.contact_model.type = type == "frictional"   ? ContactType::Frictional
-                         : type == "softfinger" ? ContactType::SoftFinger
-                                                : ContactType::Frictionless;
-  if (m[3].matched) s.contact_model.friction = std::stod(m[3]);
-  if (m[4].matched) s.contact_model.torsional_friction = std::stod(m[4]);
-  if (m[5].matched) s.contact_model.cone_edges = std::stoi(m[5]);
-  s.fingers = std::stoul(m[6]);
-  s.alpha = std::stod(m[7]);
-  return true;
-}
-
-std::size_t symmetricDifference(const std::vector<int>& a, const std::vector<int>& b) {
-  std::vector<int> d;
-  std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
-  return d.size();
-}
-std::size_t unionSize(const std::vector<int>& a, const std::vector<int>& b) {
-  std::vector<int> u;
-  std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(u));
-  return u.size();
-}
-
-}  // namespace
+using test::ReferenceSetting;
+using test::symmetricDifference;
+using test::unionSize;
 
 TEST(IcrParity, MatchesTheReferenceLibraryOnEveryGrasp) {
-  const std::filesystem::path reference_dir = std::filesystem::path(ICRKIT_SHARED_DATA_DIR) / "icr-reference";
-  const std::filesystem::path model_dir = std::filesystem::path(ICRKIT_SHARED_DATA_DIR) / "icr-models";
+  const std::filesystem::path& reference_dir = test::kReferenceDir;
+  const std::filesystem::path& model_dir = test::kModelDir;
   if (!std::filesystem::is_directory(reference_dir) || !std::filesystem::is_directory(model_dir))
     GTEST_SKIP() << "shared ICR reference data not found under " << ICRKIT_SHARED_DATA_DIR;
 
@@ -83,15 +48,9 @@ TEST(IcrParity, MatchesTheReferenceLibraryOnEveryGrasp) {
   double worst_epsilon_absolute = 0.0;
   for (const auto& file : files) {
     ReferenceSetting setting;
-    ASSERT_TRUE(parseSetting(file.filename().string(), setting)) << file;
+    ASSERT_TRUE(test::parseReferenceSetting(file.filename().string(), setting)) << file;
     SCOPED_TRACE(file.filename().string());
-    if (!meshes.count(setting.model)) {
-      TriangleMesh mesh = io::readTriangleMesh((model_dir / (setting.model + ".obj")).string());
-      // The reference library read coordinates and normals in single precision.
-      for (auto& p : mesh.vertices.positions) p = p.cast<float>().cast<double>();
-      for (auto& n : mesh.vertices.normals) n = n.cast<float>().cast<double>();
-      meshes[setting.model] = std::move(mesh);
-    }
+    if (!meshes.count(setting.model)) meshes[setting.model] = test::readReferenceMesh(setting.model);
     const TriangleMesh& mesh = meshes[setting.model];
     const GraspableObject object = GraspableObject::withDefaultFrame(mesh);
     std::ifstream in(file);

@@ -168,17 +168,7 @@ TEST(IndependentContactRegions, EveryPickFromTheRegionsResistsTheTask) {
     params.alpha = 0.5;
     // A random force-closure prototype with a reasonable epsilon.
     std::mt19937 rng(c.seed);
-    std::uniform_int_distribution<int> vertex(0, static_cast<int>(mesh.vertexCount()) - 1);
-    std::vector<int> contacts;
-    for (int attempt = 0; attempt < 10000; ++attempt) {
-      std::set<int> distinct;
-      while (distinct.size() < c.fingers) distinct.insert(vertex(rng));
-      contacts.assign(distinct.begin(), distinct.end());
-      std::shuffle(contacts.begin(), contacts.end(), rng);
-      const GraspWrenchSpace gws = graspWrenchSpace(object, contacts, params.contact_model);
-      if (gws.force_closure && gws.epsilon > 0.05) break;
-      contacts.clear();
-    }
+    const std::vector<int> contacts = test::randomForceClosureGrasp(object, params.contact_model, c.fingers, 0.05, rng, 10000);
     ASSERT_FALSE(contacts.empty());
     const IcrResult result = computeIndependentContactRegions(object, contacts, params);
     std::size_t total = 0;

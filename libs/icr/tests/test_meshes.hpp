@@ -1,13 +1,18 @@
 #pragma once
-// Meshes with known symmetry for the ICR tests.
+// Meshes with known symmetry for the ICR tests, and random prototypes on them.
 
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
+#include <icrkit/icr/independent_contact_regions.hpp>
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <map>
+#include <random>
+#include <set>
 #include <tuple>
+#include <vector>
 
 namespace icrkit::test {
 
@@ -63,6 +68,24 @@ inline int nearestVertex(const TriangleMesh& mesh, const Eigen::Vector3d& p) {
     }
   }
   return best;
+}
+
+/// A random force-closure grasp of distinct vertices with epsilon above
+/// `min_epsilon` (draws from `rng`, which callers keep using), or none after
+/// `attempts` draws.
+inline std::vector<int> randomForceClosureGrasp(const icr::GraspableObject& object, const icr::ContactModel& model,
+                                                std::size_t fingers, double min_epsilon, std::mt19937& rng,
+                                                int attempts = 20000) {
+  std::uniform_int_distribution<int> vertex(0, static_cast<int>(object.vertexCount()) - 1);
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    std::set<int> distinct;
+    while (distinct.size() < fingers) distinct.insert(vertex(rng));
+    std::vector<int> contacts(distinct.begin(), distinct.end());
+    std::shuffle(contacts.begin(), contacts.end(), rng);
+    const icr::GraspWrenchSpace gws = icr::graspWrenchSpace(object, contacts, model);
+    if (gws.force_closure && gws.epsilon > min_epsilon) return contacts;
+  }
+  return {};
 }
 
 }  // namespace icrkit::test

@@ -4,6 +4,7 @@
 // ../shared/data/icr-reference/*_patch5mm.json (conventions in that folder's
 // README and in issue 19).
 
+#include "reference_data.hpp"
 #include "test_meshes.hpp"
 
 #include <icrkit/core/error.hpp>
@@ -290,43 +291,11 @@ TEST(PatchContacts, RadiusBelowEveryEdgeIsTheSinglePointModel) {
 
 namespace {
 
-const std::filesystem::path kReferenceDir = std::filesystem::path(ICRKIT_SHARED_DATA_DIR) / "icr-reference";
-const std::filesystem::path kModelDir = std::filesystem::path(ICRKIT_SHARED_DATA_DIR) / "icr-models";
-
-// The reference library read coordinates and normals in single precision.
-TriangleMesh readReferenceMesh(const std::string& model) {
-  TriangleMesh mesh = io::readTriangleMesh((kModelDir / (model + ".obj")).string());
-  for (auto& p : mesh.vertices.positions) p = p.cast<float>().cast<double>();
-  for (auto& n : mesh.vertices.normals) n = n.cast<float>().cast<double>();
-  return mesh;
-}
-
-struct PatchReference {
-  std::string model;
-  ContactModel contact_model;
-  std::size_t fingers = 0;
-  double alpha = 0.0;
-};
-
-// "Fish_5k__frictional_mu0.8_L8_f4_a0.5_patch5mm.json"; the patch itself is
-// read from the file's "patch" object.
-bool parsePatchSetting(const std::string& name, PatchReference& s) {
-  static const std::regex pattern(
-      R"(^(.+)__(frictional|softfinger|frictionless)(?:_mu([0-9.]+))?(?:_muT([0-9.]+))?(?:_L([0-9]+))?_f([0-9]+)_a([0-9.]+)_patch[0-9.]+mm\.json$)");
-  std::smatch m;
-  if (!std::regex_match(name, m, pattern)) return false;
-  s.model = m[1];
-  const std::string type = m[2];
-  s.contact_model.type = type == "frictional"   ? ContactType::Frictional
-                         : type == "softfinger" ? ContactType::SoftFinger
-                                                : ContactType::Frictionless;
-  if (m[3].matched) s.contact_model.friction = std::stod(m[3]);
-  if (m[4].matched) s.contact_model.torsional_friction = std::stod(m[4]);
-  if (m[5].matched) s.contact_model.cone_edges = std::stoi(m[5]);
-  s.fingers = std::stoul(m[6]);
-  s.alpha = std::stod(m[7]);
-  return true;
-}
+using test::kModelDir;
+using test::kReferenceDir;
+using test::readReferenceMesh;
+using test::symmetricDifference;
+using PatchReference = test::ReferenceSetting;
 
 std::vector<std::filesystem::path> patchReferenceFiles() {
   std::vector<std::filesystem::path> files;
@@ -337,12 +306,6 @@ std::vector<std::filesystem::path> patchReferenceFiles() {
   }
   std::sort(files.begin(), files.end());
   return files;
-}
-
-std::size_t symmetricDifference(const std::vector<int>& a, const std::vector<int>& b) {
-  std::vector<int> d;
-  std::set_symmetric_difference(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(d));
-  return d.size();
 }
 
 // Issue 19: in this grasp the patches of contacts 1 and 3 overlap, so some
@@ -381,7 +344,7 @@ TEST(PatchContacts, MatchesTheReferenceLibraryOnEveryPatchGrasp) {
   double worst_epsilon_relative = 0.0, worst_epsilon_absolute = 0.0;
   for (const auto& file : files) {
     PatchReference setting;
-    ASSERT_TRUE(parsePatchSetting(file.filename().string(), setting)) << file;
+    ASSERT_TRUE(test::parseReferenceSetting(file.filename().string(), setting)) << file;
     SCOPED_TRACE(file.filename().string());
     std::ifstream in(file);
     const nlohmann::json reference = nlohmann::json::parse(in);

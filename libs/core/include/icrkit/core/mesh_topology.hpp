@@ -63,6 +63,10 @@ struct EdgeStatistics {
 };
 EdgeStatistics edgeStatistics(const TriangleMesh& mesh);
 
+/// Per vertex: 1 when it lies on an edge that only one face uses (the rim of
+/// a hole or of the seen surface), else 0.
+std::vector<std::uint8_t> boundaryVertices(const TriangleMesh& mesh);
+
 /// Closed chains of boundary edges (edges used by one face), each as its
 /// vertex sequence in the winding of the faces it borders. A vertex where
 /// several holes touch appears in each of their loops. In a mesh that is not

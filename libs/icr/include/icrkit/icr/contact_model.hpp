@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace icrkit::icr {
@@ -31,6 +32,12 @@ struct ContactModel {
   /// Number of primitive wrenches of one contact.
   std::size_t wrenchesPerContact() const;
 };
+
+/// "frictional", "frictionless", "soft": the names the command and the
+/// Python package use.
+const char* contactTypeName(ContactType type);
+/// The inverse; InputError (source "contact model") naming the choices.
+ContactType parseContactType(const std::string& name);
 
 /// A primitive of the contact, in the contact frame (+z along the normal).
 struct LocalPrimitive {

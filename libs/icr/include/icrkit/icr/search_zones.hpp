@@ -6,7 +6,9 @@
 #include <icrkit/icr/grasp_wrench_space.hpp>
 #include <icrkit/icr/task_wrench_space.hpp>
 
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace icrkit::icr {
@@ -33,6 +35,41 @@ SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpac
 SearchZones computeSearchZones(const GraspWrenchSpace& gws, const TaskWrenchSpace& tws, std::size_t finger_count,
                                const std::vector<int>& finger_of_wrench);
 
+/// One finger's zones as the zone tests read them: one row per facet its
+/// zones use (row-major, so that a facet's normal is one contiguous 48-byte
+/// read), its threshold, and per zone the rows of its facets.
+struct FingerFacetRows {
+  Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> normals;
+  Eigen::VectorXd thresholds;
+  std::vector<std::vector<int>> zone_rows;
+
+  /// Whether the wrench `w` (6 values) lies at least `required` beyond every
+  /// facet of `zone`; with `slack`, its smallest margin there when it does.
+  /// A facet that rejects a wrench moves to the front of its zone, where it
+  /// will likely reject the next one too: only the order of the work
+  /// changes, never the answer.
+  bool holds(std::size_t zone, const double* w, double required = 0.0, double* slack = nullptr) {
+    std::vector<int>& rows = zone_rows[zone];
+    double smallest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const int r = rows[k];
+      const double* n = normals.data() + 6 * r;
+      const double margin =
+          n[0] * w[0] + n[1] * w[1] + n[2] * w[2] + n[3] * w[3] + n[4] * w[4] + n[5] * w[5] - thresholds(r);
+      if (margin < required) {
+        if (k > 0) std::swap(rows[k], rows[0]);
+        return false;
+      }
+      smallest = std::min(smallest, margin);
+    }
+    if (slack) *slack = smallest;
+    return true;
+  }
+};
+
+/// Per finger, its rows (FingerFacetRows).
+std::vector<FingerFacetRows> fingerFacetRows(const SearchZones& zones);
+
 /// Tests candidate contacts against the zones, stopping at the first facet
 /// that rejects a wrench, so a candidate that fails its first zone costs a
 /// handful of dot products. (Remembering products shared by zones of one
@@ -58,7 +95,7 @@ public:
     const Eigen::Index* wrench = nullptr;  ///< zoneCount(finger) entries
     const double* slack = nullptr;         ///< zoneCount(finger) entries
   };
-  std::size_t zoneCount(std::size_t finger) const { return fingers_[finger].zone_rows.size(); }
+  std::size_t zoneCount(std::size_t finger) const { return fingers_[finger].rows.zone_rows.size(); }
 
   /// The same answer, sped up by a neighbour's evidence: the facet normals
   /// are unit, so a wrench that moved by less than its slack from one that
@@ -77,19 +114,11 @@ public:
 
 private:
   struct FingerFacets {
-    // One row per facet the finger's zones use; row-major, so that a facet's
-    // normal is one contiguous 48-byte read.
-    Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> normals;
-    Eigen::VectorXd thresholds;
-    std::vector<std::vector<int>> zone_rows;  // per zone, rows of `normals`
+    FingerFacetRows rows;
     // Neighbouring candidates behave alike: each zone first tries the wrench
-    // that held it last time, and a facet that rejects a wrench moves to the
-    // front of its zone. Only the order of the work changes, never the answer.
+    // that held it last time. Only the order of the work changes.
     std::vector<Eigen::Index> last_wrench;
   };
-  // With `slack`, a wrench that holds the zone gets its smallest margin there.
-  bool holds(FingerFacets& local, std::size_t zone, Eigen::Index wrench, const WrenchSet& wrenches, double required,
-             double* slack = nullptr);
 
   std::vector<FingerFacets> fingers_;
   std::size_t zones_on_evidence_ = 0;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 namespace icrkit::icr {
@@ -22,6 +23,11 @@ struct WrenchFrame {
 };
 
 enum class TorqueReference { Origin, Centroid };
+
+/// "origin", "centroid".
+const char* torqueReferenceName(TorqueReference reference);
+/// The inverse; InputError (source "torque reference") naming the choices.
+TorqueReference parseTorqueReference(const std::string& name);
 
 /// Reference point (frame origin or the points' centroid) and lambda = the
 /// largest distance of a point from it. InputError for an empty set or a
