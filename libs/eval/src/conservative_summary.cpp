@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace icrkit::eval {
 namespace {
@@ -51,8 +52,9 @@ struct RowAccumulator {
   Accumulator filtered, raw;
 };
 
-// Key: (dataset, setting index: 0 plain, 1 + index into the K list).
-using Key = std::pair<std::string, std::size_t>;
+// Key: (pooled: the "All" row, after every dataset; dataset; setting index:
+// 0 plain, 1 + index into the K list).
+using Key = std::tuple<bool, std::string, std::size_t>;
 
 std::string kLabel(const std::optional<double>& sigmas) {
   if (!sigmas) return "plain";
@@ -118,21 +120,22 @@ ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& r
   std::map<Key, RowAccumulator> rows;
   for (const GraspRecord& r : records) {
     if (!r.evaluated) continue;
-    for (const std::string& dataset : {r.dataset, std::string("\x7f" "All")}) {  // "All" sorts last
-      RowAccumulator& plain = rows[{dataset, 0}];
+    for (const bool pooled : {false, true}) {
+      const std::string dataset = pooled ? "All" : r.dataset;
+      RowAccumulator& plain = rows[{pooled, dataset, 0}];
       ++plain.grasps;
       for (const auto& region : r.filtered.regions) plain.filtered.add(region);
       for (const auto& region : r.raw.regions) plain.raw.add(region);
       plain.filtered.add(r.filtered.picks);
       plain.raw.add(r.raw.picks);
       for (const ConservativeOutcome& c : r.filtered.conservative) {
-        RowAccumulator& row = rows[{dataset, settingOf(c.sigmas)}];
+        RowAccumulator& row = rows[{pooled, dataset, settingOf(c.sigmas)}];
         ++row.grasps;
         for (const auto& region : c.regions) row.filtered.add(region);
         row.filtered.add(c.picks);
       }
       for (const ConservativeOutcome& c : r.raw.conservative) {
-        RowAccumulator& row = rows[{dataset, settingOf(c.sigmas)}];
+        RowAccumulator& row = rows[{pooled, dataset, settingOf(c.sigmas)}];
         for (const auto& region : c.regions) row.raw.add(region);
         row.raw.add(c.picks);
       }
@@ -140,8 +143,8 @@ ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& r
   }
   for (const auto& [key, acc] : rows) {
     GrowthRow row;
-    row.dataset = key.first == "\x7f" "All" ? "All" : key.first;
-    if (key.second > 0) row.sigmas = summary.sigmas[key.second - 1];
+    row.dataset = std::get<1>(key);
+    if (std::get<2>(key) > 0) row.sigmas = summary.sigmas[std::get<2>(key) - 1];
     row.evaluated_grasps = acc.grasps;
     row.filtered = acc.filtered.finish();
     row.raw = acc.raw.finish();
