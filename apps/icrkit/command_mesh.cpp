@@ -30,6 +30,7 @@ struct MeshOptions {
   std::string viewpoint;
   double thinning = reconstruction::BallPivotingParameters{}.thinning_factor;
   bool no_reinsert = false;
+  bool keep_folded_holes = false;
   std::size_t fill_holes = reconstruction::BallPivotingParameters{}.close_holes_up_to;
   std::size_t min_component_faces = 0;
 };
@@ -48,6 +49,7 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
     throw InputError("--thinning", "", "expected a finite factor >= 0 (0 = off)");
   params.thinning_factor = options.thinning;
   params.reinsert_thinned = !options.no_reinsert;
+  params.fill_folded_holes = !options.keep_folded_holes;
   params.close_holes_up_to = options.fill_holes;
   params.min_component_faces = options.min_component_faces;
   ndt::NormalEstimationParameters normal_params;
@@ -118,6 +120,7 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
                          {"removed_faces", r.removed_faces},
                          {"boundary_edges", r.boundary_edges},
                          {"closed_holes", r.closed_holes},
+                         {"folded_holes", r.folded_holes},
                          {"boundary_loops", r.boundary_loops},
                          {"non_manifold_edges", r.non_manifold_edges},
                          {"components", r.components},
@@ -163,6 +166,9 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner) {
                    "Fill holes of up to this many boundary edges (and a perimeter of up to 8 x the largest radius) "
                    "over their own points; 0 = off")
       ->capture_default_str();
+  command->add_flag("--keep-folded-holes", options->keep_folded_holes,
+                    "Leave open the holes whose rim is folded over (no fill can face the point normals "
+                    "everywhere); by default they are filled where the fill lies on seen surface (docs/meshing.md)");
   command
       ->add_option("--min-component-faces", options->min_component_faces,
                    "Take out components with fewer faces than this (flakes beside the surface); 0 = keep all")

@@ -97,7 +97,8 @@ nlohmann::json meshingJson(const reconstruction::BallPivotingReport& r) {
            }()},
           {"layer_thickness_m", r.layer_thickness}, {"thinning_cell_m", r.thinning_cell},
           {"thinned_points", r.thinned_points},     {"reinserted_points", r.reinserted_points},
-          {"closed_holes", r.closed_holes},         {"removed_faces", r.removed_faces}};
+          {"closed_holes", r.closed_holes},         {"folded_holes", r.folded_holes},
+          {"removed_faces", r.removed_faces}};
 }
 
 nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& context) {

@@ -78,7 +78,8 @@ py::dict resultToDict(const icr::IcrResult& r) {
 py::dict meshingReport(const reconstruction::BallPivotingReport& r) {
   return py::dict(py::arg("triangles") = r.triangles, py::arg("used_points") = r.used_points,
                   py::arg("boundary_loops") = r.boundary_loops, py::arg("components") = r.components,
-                  py::arg("non_manifold_edges") = r.non_manifold_edges, py::arg("reinserted_points") = r.reinserted_points);
+                  py::arg("non_manifold_edges") = r.non_manifold_edges, py::arg("reinserted_points") = r.reinserted_points,
+                  py::arg("closed_holes") = r.closed_holes, py::arg("folded_holes") = r.folded_holes);
 }
 
 py::array_t<double> posesArray(const std::vector<Eigen::Isometry3d>& poses) {

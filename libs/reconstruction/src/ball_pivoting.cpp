@@ -30,6 +30,11 @@ namespace {
 
 using Eigen::Vector3d;
 
+// A folded hole's fill may cover at most this share of the piece of surface
+// it joins: a hole, not a cap over a flake's or a sheet's outer rim (whose
+// fill is as large as the sheet).
+constexpr double kFoldFillShare = 0.1;
+
 // A strictly increasing function of the angle atan2(sine, cosine) taken
 // in [0, 2 pi), with values in [0, 4): the ball's rotation compared without
 // a call to atan2. A point on the old ball's sphere (a planar quad's fourth
@@ -117,6 +122,7 @@ public:
   }
 
   std::size_t unorientedPoints() const { return unoriented_; }
+  std::size_t foldedHoles() const { return folded_holes_; }
   const std::vector<std::uint8_t>& skipped() const { return skipped_; }
 
   // Leaves out the points `keep` does not flag (a thinned noise layer):
@@ -209,6 +215,7 @@ public:
     std::size_t filled = 0;
     std::vector<std::vector<int>> stubborn, stubborn_seen;
     support_distance_ = support_distance;
+    if (params_.fill_folded_holes) labelComponents();
     for (const std::vector<int>& cycle : simpleBoundaryCycles()) {
       if (withinBounds(cycle, max_edges, max_perimeter)) {
         if (fillCycle(cycle, false)) ++filled;
@@ -314,15 +321,72 @@ private:
       positions.push_back(p_[v]);
       normals.push_back(normals_[v]);
     }
-    const PolygonTriangulation fill = triangulatePolygon(positions, normals, [&](int x, int y) {
+    const auto chord_allowed = [&](int x, int y) {
       if (polygon[x] == polygon[y]) return false;
       const int e = findEdge(polygon[x], polygon[y]);
       return e < 0 || edges_[e].faceCount() == 0;
-    });
+    };
+    PolygonTriangulation fill = triangulatePolygon(positions, normals, chord_allowed);
+    const bool folded = !fill.found && params_.fill_folded_holes && support_distance_ > 0.0;
+    if (folded) {
+      // A rim folded over (where two sheets of a noisy layer met, or along
+      // a sharp edge) has no fill that faces its normals everywhere: it
+      // is closed anyway when the fill lies on seen surface. The outer rim
+      // of a flake or of a small open sheet looks the same from its
+      // normals, and a fill over it is a copy of the sheet turned round:
+      // so the fill must be small against the piece of surface it joins.
+      fill = triangulatePolygon(positions, normals, chord_allowed, FillFacing::prefer_agreeing);
+      if (fill.found && !(fillArea(fill.triangles, polygon) <= kFoldFillShare * rimComponentArea(cycle)))
+        return false;
+      must_be_seen = true;
+    }
     if (!fill.found) return false;
     if (must_be_seen && !seen(fill.triangles, polygon)) return false;
     for (const auto& t : fill.triangles) addFace(polygon[t[0]], polygon[t[1]], polygon[t[2]]);
+    if (folded) ++folded_holes_;
     return true;
+  }
+
+  double fillArea(const std::vector<std::array<int, 3>>& faces, const std::vector<int>& polygon) const {
+    double area = 0.0;
+    for (const auto& t : faces)
+      area += 0.5 * (p_[polygon[t[1]]] - p_[polygon[t[0]]]).cross(p_[polygon[t[2]]] - p_[polygon[t[0]]]).norm();
+    return area;
+  }
+
+  // Labels the faces' connected pieces (through shared points) and sums
+  // their areas, before any hole is filled.
+  void labelComponents() {
+    std::vector<int> parent(p_.size());
+    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
+    auto root = [&](int v) {
+      while (parent[v] != v) v = parent[v] = parent[parent[v]];
+      return v;
+    };
+    for (const Triangle& f : faces_)
+      if (f[0] >= 0)
+        for (int k = 1; k < 3; ++k) parent[root(f[k])] = root(f[0]);
+    face_component_.assign(faces_.size(), -1);
+    component_area_.assign(p_.size(), 0.0);
+    for (std::size_t face = 0; face < faces_.size(); ++face) {
+      const Triangle& f = faces_[face];
+      if (f[0] < 0) continue;
+      face_component_[face] = root(f[0]);
+      component_area_[face_component_[face]] += 0.5 * (p_[f[1]] - p_[f[0]]).cross(p_[f[2]] - p_[f[0]]).norm();
+    }
+  }
+
+  // The area of the piece of surface (as labelled before the filling) that
+  // borders `cycle`; 0 when none of its faces is that old.
+  double rimComponentArea(const std::vector<int>& cycle) const {
+    for (std::size_t v = 0; v < cycle.size(); ++v) {
+      const int e = findEdge(cycle[v], cycle[(v + 1) % cycle.size()]);
+      if (e < 0) continue;
+      for (int face : edges_[e].faces)
+        if (face >= 0 && static_cast<std::size_t>(face) < face_component_.size() && face_component_[face] >= 0)
+          return component_area_[face_component_[face]];
+    }
+    return 0.0;
   }
 
   // `rings` rings of faces around the hole's points are taken out.
@@ -657,6 +721,9 @@ private:
   std::vector<std::vector<int>> vertex_faces_;  // per vertex: its faces, during hole repair only
   std::optional<KdTree> support_;               // every input point, for holes that must have been seen
   double support_distance_ = 0.0;
+  std::vector<int> face_component_;     // per face present when the filling began: its piece's root
+  std::vector<double> component_area_;  // per root: the piece's area (m^2)
+  std::size_t folded_holes_ = 0;
   std::vector<Edge> edges_;
   std::vector<Triangle> faces_;
   std::deque<int> front_;
@@ -789,6 +856,7 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
     throw InputError("hole_perimeter_factor", "", "must be finite");
   report.closed_holes = pivoter.fillHoles(params.close_holes_up_to, params.hole_perimeter_factor * radii.back(),
                                           params.seen_holes_up_to, radii.back());
+  report.folded_holes = pivoter.foldedHoles();
   report.removed_faces = pivoter.removeSmallComponents(params.min_component_faces);
   pivoter.summarise(report);
 

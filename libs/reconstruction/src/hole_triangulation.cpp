@@ -10,7 +10,8 @@ namespace icrkit::reconstruction {
 
 PolygonTriangulation triangulatePolygon(const std::vector<Eigen::Vector3d>& positions,
                                         const std::vector<Eigen::Vector3d>& normals,
-                                        const std::function<bool(int, int)>& chord_allowed) {
+                                        const std::function<bool(int, int)>& chord_allowed,
+                                        FillFacing facing) {
   PolygonTriangulation result;
   const int n = static_cast<int>(positions.size());
   if (n < 3 || normals.size() != positions.size()) return result;
@@ -41,7 +42,7 @@ PolygonTriangulation triangulatePolygon(const std::vector<Eigen::Vector3d>& posi
     }
     if (!(mean.norm() > 0.0)) return kNone;
     const double agreement = unit.dot(mean.normalized());
-    if (!(agreement > 0.0)) return kNone;
+    if (!(agreement > 0.0) && facing == FillFacing::agree) return kNone;
     return 0.5 * twice_area * (2.0 - agreement);
   };
   for (int span = 2; span < n; ++span)

@@ -25,7 +25,10 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
   auto start = Clock::now();
   report(progress, "raw mesh", 0, 1);
   BallPivotingParameters raw_meshing = params.meshing;
-  if (!params.thin_raw_cloud) raw_meshing.thinning_factor = 0.0;
+  if (!params.thin_raw_cloud) {
+    raw_meshing.thinning_factor = 0.0;
+    raw_meshing.fill_folded_holes = false;
+  }
   BallPivotingResult raw = ballPivoting(cloud, raw_meshing);
   out.raw = std::move(raw.mesh);
   out.raw_meshing = raw.report;

@@ -48,6 +48,26 @@ TEST(HoleTriangulation, NormalsAgainstTheWindingLeaveNoFill) {
   EXPECT_FALSE(triangulatePolygon(p, down, kAnyChord).found);
 }
 
+TEST(HoleTriangulation, AFoldedRimIsFilledOnlyWhenDisagreementIsAllowed) {
+  // The rim of a hole the surface overlaps runs against its normals: no
+  // face can agree, so the strict fill finds none; the tolerant one tiles
+  // the polygon (it is the caller's job to check it lies on the surface).
+  const auto p = regularPolygon(5, 0.01);
+  const std::vector<Eigen::Vector3d> down(p.size(), -Eigen::Vector3d::UnitZ());
+  const PolygonTriangulation t = triangulatePolygon(p, down, kAnyChord, FillFacing::prefer_agreeing);
+  ASSERT_TRUE(t.found);
+  EXPECT_EQ(t.triangles.size(), 3u);
+  // A flat hole whose every possible face agrees: the same fill either way.
+  const auto q = regularPolygon(7, 0.01);
+  std::vector<Eigen::Vector3d> n;
+  for (int i = 0; i < 7; ++i) n.emplace_back(0.3 * std::cos(i), 0.3 * std::sin(2 * i), 1.0);
+  const PolygonTriangulation strict = triangulatePolygon(q, n, kAnyChord);
+  const PolygonTriangulation tolerant = triangulatePolygon(q, n, kAnyChord, FillFacing::prefer_agreeing);
+  ASSERT_TRUE(strict.found);
+  ASSERT_TRUE(tolerant.found);
+  EXPECT_EQ(strict.triangles, tolerant.triangles);
+}
+
 TEST(HoleTriangulation, ForbiddenChordTakesTheOtherDiagonal) {
   // A square whose shorter diagonal (0, 2) is an edge elsewhere already.
   std::vector<Eigen::Vector3d> p{{0, 0, 0}, {1, 0, 0}, {1.2, 1.2, 0}, {0, 1, 0}};

@@ -76,6 +76,14 @@ struct BallPivotingParameters {
   /// the largest radius of an input point (used or not). An opening no
   /// view saw (an object's base) has none inside and stays open. 0 = none.
   std::size_t seen_holes_up_to = 200;
+  /// A hole whose rim is folded over (the surface overlaps itself at the
+  /// rim: where two sheets of a noisy layer met, along a sharp edge) has no
+  /// fill whose faces all agree with the point normals. With this on, such
+  /// a hole (of either size above) is filled anyway, disagreeing faces
+  /// allowed but penalised, when the whole fill lies on seen surface (the
+  /// test of `seen_holes_up_to`). The fold stays a crease one or two faces
+  /// wide; regions and mappings use the vertex normals, not the faces'.
+  bool fill_folded_holes = true;
   /// Finally, components (faces connected through shared points) with
   /// fewer faces than this are taken out, their points left unused: flakes
   /// of a noisy layer beside the surface. 0 = keep everything (the
@@ -107,6 +115,9 @@ struct BallPivotingReport {
   std::size_t duplicate_points = 0;   ///< of the unused ones: duplicates of an earlier point
   std::size_t unoriented_points = 0;  ///< of the unused ones: points whose normal is zero
   std::size_t closed_holes = 0;        ///< holes filled after the last radius
+  /// Of those: folded holes (`fill_folded_holes`), whose fills have faces
+  /// against their points' normals.
+  std::size_t folded_holes = 0;
   std::size_t removed_faces = 0;       ///< faces of components below `min_component_faces`
   std::size_t boundary_edges = 0;
   std::size_t boundary_loops = 0;

@@ -26,8 +26,9 @@ struct RawAndFilteredParameters {
   double reference_spacing = 0.0;
   /// Ball pivoting of both clouds.
   BallPivotingParameters meshing;
-  /// false: the raw mesh keeps its noise layer unthinned (the paper's
-  /// baseline: every point as it is).
+  /// false: the raw mesh keeps its noise layer unthinned and its folded
+  /// holes open (the paper's baseline: every point as it is, plain ball
+  /// pivoting); true: it is meshed like the smoothed cloud.
   bool thin_raw_cloud = false;
   /// The other reading of the paper: excluded points are removed before
   /// ball pivoting, so the filtered mesh has no excluded vertex (and holes

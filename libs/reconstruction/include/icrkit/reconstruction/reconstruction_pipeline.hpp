@@ -116,8 +116,9 @@ struct ReconstructionParameters {
     return p;
   }();
   /// The raw mesh is the paper's baseline, every fused point as it is:
-  /// false keeps its noise layer unthinned (`meshing.thinning_factor`
-  /// applies to the smoothed cloud only); its holes are then many.
+  /// false keeps its noise layer unthinned and its folded holes open
+  /// (`meshing.thinning_factor` and `meshing.fill_folded_holes` apply to
+  /// the smoothed cloud only); its holes are then many.
   bool thin_raw_cloud = false;
   /// Drop the preselection's excluded points before ball pivoting the
   /// smoothed cloud (RawAndFilteredParameters::mesh_kept_points_only).
