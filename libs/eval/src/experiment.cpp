@@ -1,6 +1,7 @@
 #include <icrkit/eval/experiment.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
 #include <icrkit/eval/kept_vertex_snapping.hpp>
@@ -14,6 +15,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <random>
 #include <set>
@@ -120,6 +122,10 @@ struct DatasetExperiment::Impl {
   IntersectionEstimator estimator;
   VertexFaces raw_faces, filtered_faces;
   RegionQualityEvaluator quality;
+  // The filtered mesh's boundary vertices: the rim of the seen surface
+  // (the tree keeps a reference to the points, declared first).
+  std::vector<Eigen::Vector3d> filtered_rim_points;
+  std::unique_ptr<KdTree> filtered_rim;
   struct TestSet {
     std::size_t fingers;
     std::vector<icr::SampledGrasp> grasps;
@@ -140,7 +146,28 @@ struct DatasetExperiment::Impl {
         estimator(*m.cad, c.mapping),
         raw_faces(vertexFaces(*m.raw)),
         filtered_faces(vertexFaces(*m.filtered)),
-        quality(*m.cad, RegionQualityParameters{c.metric, c.paths}) {}
+        quality(*m.cad, RegionQualityParameters{c.metric, c.paths}) {
+    const std::vector<std::uint8_t> rim = boundaryVertices(*m.filtered);
+    for (std::size_t v = 0; v < rim.size(); ++v)
+      if (rim[v]) filtered_rim_points.push_back(m.filtered->vertices.positions[v]);
+    if (!filtered_rim_points.empty()) filtered_rim = std::make_unique<KdTree>(filtered_rim_points);
+  }
+
+  /// GraspRecord::seen_rim_distance_m of the mapped grasps.
+  double seenRimDistance(const MeshOutcome& raw, const MeshOutcome& filtered) const {
+    double nearest = std::numeric_limits<double>::infinity();
+    if (!filtered_rim) return nearest;
+    const auto visit = [&](const std::vector<int>& contacts, const TriangleMesh& mesh) {
+      for (int c : contacts)
+        if (c >= 0)
+          nearest = std::min(nearest, filtered_rim->nearest(mesh.vertices.positions[static_cast<std::size_t>(c)], 1)
+                                          .front()
+                                          .distance);
+    };
+    visit(raw.contacts, *meshes.raw);
+    visit(filtered.contacts, *meshes.filtered);
+    return nearest;
+  }
 
   /// Force closure, epsilon and whether the TWS fits, for mapped contacts.
   struct TaskCheck {
@@ -296,6 +323,7 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
   record.tws_radius = config.alpha * grasp.epsilon;
   record.raw = transfer(grasp.contacts, record.tws_radius, to_raw, raw_object);
   record.filtered = transfer(grasp.contacts, record.tws_radius, to_filtered, filtered_object);
+  record.seen_rim_distance_m = seenRimDistance(record.raw, record.filtered);
   // Only beside the strict outcome: whatever it finds, the grasp is
   // evaluated below only when the strict G^F is eligible.
   if (config.snap_excluded_contacts && !record.filtered.preselection_passed)

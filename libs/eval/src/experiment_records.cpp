@@ -318,6 +318,7 @@ std::string toJsonLine(const GraspRecord& record) {
   j["cad_region_areas_m2"] = std::move(areas);
   j["raw"] = meshToJson(record.raw);
   j["filtered"] = meshToJson(record.filtered);
+  if (record.seen_rim_distance_m) j["seen_rim_distance_m"] = doubleToJson(*record.seen_rim_distance_m);
   // Compact and ASCII-safe: one record per line whatever the dataset name holds
   // (dump escapes control characters, and invalid UTF-8 is replaced, not thrown).
   return j.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -344,6 +345,8 @@ GraspRecord fromJsonLine(const std::string& text, const std::string& source, std
   record.cad_region_areas_m2 = in.doubleArray(j, "", "cad_region_areas_m2");
   record.raw = meshFromJson(in, in.member(j, "", "raw"), "raw");
   record.filtered = meshFromJson(in, in.member(j, "", "filtered"), "filtered");
+  if (!in.optionalMember(j, "", "seen_rim_distance_m").is_null())
+    record.seen_rim_distance_m = in.number(j, "", "seen_rim_distance_m");
   return record;
 }
 

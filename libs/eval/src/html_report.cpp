@@ -28,6 +28,16 @@ std::string countWithPercent(const EligibilityCounts& counts, std::size_t count)
   return std::to_string(count) + (percent ? " (" + fixed(*percent, 1) + " %)" : "");
 }
 
+std::string offRimText(const EligibilityCounts& counts) {
+  if (counts.rim_not_recorded == counts.grasps && counts.grasps > 0) return "&ndash;";
+  const auto percent = [&](std::size_t count) {
+    const auto p = counts.offRimPercent(count);
+    return p ? fixed(*p, 1) + " %" : std::string("&ndash;");
+  };
+  return std::to_string(counts.off_rim_grasps) + " / " + percent(counts.raw_eligible_off_rim) + " / " +
+         percent(counts.filtered_eligible_off_rim);
+}
+
 std::string bytesText(std::size_t bytes) {
   if (bytes >= 1024 * 1024) return fixed(bytes / (1024.0 * 1024.0), 1) + " MiB";
   if (bytes >= 1024) return fixed(bytes / 1024.0, 1) + " KiB";
@@ -393,6 +403,7 @@ void writeEligibility(std::ostringstream& out, const HtmlReportInput& input) {
   out << "<table id=\"eligibility-table\">\n<thead><tr><th class=\"name\">Dataset</th><th class=\"name\">Fingers</th>"
          "<th>Grasps</th><th>Raw eligible</th><th>Filtered eligible</th><th>Filtered: preselection failed</th>"
          "<th>Both eligible</th><th>Evaluated</th><th>Filtered eligible after snapping to the nearest kept vertex (not "
+         "the paper's check)</th><th>Away from the rim of the seen surface: grasps / raw / filtered eligible (not "
          "the paper's check)</th></tr></thead>\n<tbody>\n";
   auto row = [&](const std::string& name, const std::string& fingers, const EligibilityCounts& c, bool strong) {
     out << "<tr" << (strong ? " class=\"average\"" : "") << "><td class=\"name\">" << htmlEscape(name)
@@ -400,7 +411,7 @@ void writeEligibility(std::ostringstream& out, const HtmlReportInput& input) {
         << countWithPercent(c, c.raw_eligible) << "</td><td>" << countWithPercent(c, c.filtered_eligible)
         << "</td><td>" << countWithPercent(c, c.filtered_preselection_failed) << "</td><td>"
         << countWithPercent(c, c.both_eligible) << "</td><td>" << countWithPercent(c, c.evaluated) << "</td><td>"
-        << countWithPercent(c, c.filtered_eligible_after_snapping) << "</td></tr>\n";
+        << countWithPercent(c, c.filtered_eligible_after_snapping) << "</td><td>" << offRimText(c) << "</td></tr>\n";
   };
   for (const EligibilityGroup& group : input.eligibility->datasets) row(group.dataset, "all", group.all, false);
   for (const auto& [fingers, counts] : input.eligibility->overall.by_fingers)
@@ -411,12 +422,16 @@ void writeEligibility(std::ostringstream& out, const HtmlReportInput& input) {
          "<td class=\"paper\">&ndash;</td><td class=\"paper\">"
       << fixed(paper.raw_eligible_percent, 1) << " %</td><td class=\"paper\">" << fixed(paper.filtered_eligible_percent, 1)
       << " %</td><td class=\"paper\">&ndash;</td><td class=\"paper\">&ndash;</td><td class=\"paper\">&ndash;</td>"
-         "<td class=\"paper\">&ndash;</td></tr>\n"
+         "<td class=\"paper\">&ndash;</td><td class=\"paper\">&ndash;</td></tr>\n"
          "</tbody>\n</table>\n<p class=\"note\">A mapped grasp is eligible when it fulfils the task (force closure, "
          "its GWS holds the TWS) and, on the filtered mesh, avoids excluded vertices. Grasps eligible on both meshes "
          "are evaluated. The last column is not the paper's check: it also counts a filtered grasp whose contacts on "
          "excluded vertices, each moved to the nearest kept vertex within the mapping's neighbourhood radius, meet the "
-         "task (what a planner would do); a grasp eligible only after snapping is not evaluated.</p>\n</section>\n";
+         "task (what a planner would do); a grasp eligible only after snapping is not evaluated. The last column "
+         "keeps only grasps whose mapped contacts all lie farther than "
+      << fixed(input.eligibility->seen_rim_distance_m * 1e3, 1)
+      << " mm from the filtered mesh's boundary, the rim of what the views saw: a grasp on surface no view saw "
+         "(an object's base) is mapped onto that rim on both meshes.</p>\n</section>\n";
 }
 
 void writeViewer(std::ostringstream& out, const HtmlReportInput& input, HtmlReportSizes& sizes) {

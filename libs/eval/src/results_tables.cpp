@@ -1,6 +1,7 @@
 #include <icrkit/eval/results_tables.hpp>
 
 #include <icrkit/core/atomic_file.hpp>
+#include <icrkit/core/error.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -41,6 +42,12 @@ const char* const kAfterSnappingNote =
 const char* const kSnappingNotRecordedNote =
     "filtered grasps that failed the preselection and carry no snapped grasp (records written before snapping "
     "existed, or with it switched off); filtered_eligible_after_snapping is a lower bound when this is not 0";
+
+const char* const kOffRimNote =
+    "eligibility on surface the views saw (not the paper's figure): only grasps whose contacts, mapped onto the "
+    "raw and filtered meshes, all lie farther than seen_rim_distance_m from the filtered mesh's boundary (the rim "
+    "of the seen surface); *_off_rim_percent are of off_rim_grasps. rim_not_recorded: records written before the "
+    "rim distance existed, counted in none of these";
 
 std::string markdownValue(const std::optional<double>& value) {
   return value ? formatFixed(*value, 1) : std::string(kUnsetMarkdown);
@@ -145,7 +152,7 @@ PaperTableOneRow paperRow(const char* dataset, const char* sensor, const char* o
   return PaperTableOneRow{dataset, sensor, object, fi, ffp, ri, rfp};
 }
 
-void addCounts(EligibilityCounts& counts, const GraspRecord& record) {
+void addCounts(EligibilityCounts& counts, const GraspRecord& record, double seen_rim_distance) {
   ++counts.grasps;
   if (record.raw.eligible()) ++counts.raw_eligible;
   if (record.filtered.eligible()) ++counts.filtered_eligible;
@@ -154,11 +161,18 @@ void addCounts(EligibilityCounts& counts, const GraspRecord& record) {
   if (record.evaluated) ++counts.evaluated;
   if (record.filtered.eligibleAfterSnapping()) ++counts.filtered_eligible_after_snapping;
   if (!record.filtered.preselection_passed && !record.filtered.snapped) ++counts.filtered_snapping_not_recorded;
+  if (!record.seen_rim_distance_m) {
+    ++counts.rim_not_recorded;
+  } else if (*record.seen_rim_distance_m > seen_rim_distance) {
+    ++counts.off_rim_grasps;
+    if (record.raw.eligible()) ++counts.raw_eligible_off_rim;
+    if (record.filtered.eligible()) ++counts.filtered_eligible_off_rim;
+  }
 }
 
-void addToGroup(EligibilityGroup& group, const GraspRecord& record) {
-  addCounts(group.by_fingers[record.fingers], record);
-  addCounts(group.all, record);
+void addToGroup(EligibilityGroup& group, const GraspRecord& record, double seen_rim_distance) {
+  addCounts(group.by_fingers[record.fingers], record, seen_rim_distance);
+  addCounts(group.all, record, seen_rim_distance);
 }
 
 Json countsJson(const EligibilityCounts& counts) {
@@ -177,6 +191,13 @@ Json countsJson(const EligibilityCounts& counts) {
   j["filtered_eligible_after_snapping"] = counts.filtered_eligible_after_snapping;
   j["filtered_eligible_after_snapping_percent"] = optionalJson(counts.percent(counts.filtered_eligible_after_snapping));
   j["filtered_snapping_not_recorded"] = counts.filtered_snapping_not_recorded;
+  j["off_rim_grasps"] = counts.off_rim_grasps;
+  j["off_rim_grasps_percent"] = optionalJson(counts.percent(counts.off_rim_grasps));
+  j["raw_eligible_off_rim"] = counts.raw_eligible_off_rim;
+  j["raw_eligible_off_rim_percent"] = optionalJson(counts.offRimPercent(counts.raw_eligible_off_rim));
+  j["filtered_eligible_off_rim"] = counts.filtered_eligible_off_rim;
+  j["filtered_eligible_off_rim_percent"] = optionalJson(counts.offRimPercent(counts.filtered_eligible_off_rim));
+  j["rim_not_recorded"] = counts.rim_not_recorded;
   return j;
 }
 
@@ -310,17 +331,25 @@ std::optional<double> EligibilityCounts::percent(std::size_t count) const {
   return 100.0 * double(count) / double(grasps);
 }
 
+std::optional<double> EligibilityCounts::offRimPercent(std::size_t count) const {
+  if (off_rim_grasps == 0) return std::nullopt;
+  return 100.0 * double(count) / double(off_rim_grasps);
+}
+
 EligibilitySummary computeEligibility(const std::vector<GraspRecord>& records, const TableOneOptions& options) {
+  if (!(options.seen_rim_distance_m >= 0.0) || !std::isfinite(options.seen_rim_distance_m))
+    throw InputError("seen_rim_distance_m", "", "expected a finite distance >= 0 (metres)");
   EligibilitySummary summary;
   summary.overall.dataset = "all";
+  summary.seen_rim_distance_m = options.seen_rim_distance_m;
   for (const auto& dataset : datasetOrder(records, options.dataset_order)) {
     EligibilityGroup group;
     group.dataset = dataset;
     for (const auto& record : records)
-      if (record.dataset == dataset) addToGroup(group, record);
+      if (record.dataset == dataset) addToGroup(group, record, options.seen_rim_distance_m);
     summary.datasets.push_back(std::move(group));
   }
-  for (const auto& record : records) addToGroup(summary.overall, record);
+  for (const auto& record : records) addToGroup(summary.overall, record, options.seen_rim_distance_m);
   return summary;
 }
 
@@ -397,8 +426,10 @@ std::string eligibilityJson(const EligibilitySummary& summary) {
   j["overall"] = groupJson(summary.overall);
   j["paper"] = {{"filtered_eligible_percent", paper.filtered_eligible_percent},
                 {"raw_eligible_percent", paper.raw_eligible_percent}};
+  j["seen_rim_distance_m"] = summary.seen_rim_distance_m;
   j["notes"] = {{"filtered_eligible_after_snapping", kAfterSnappingNote},
-                {"filtered_snapping_not_recorded", kSnappingNotRecordedNote}};
+                {"filtered_snapping_not_recorded", kSnappingNotRecordedNote},
+                {"off_rim", kOffRimNote}};
   return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 

@@ -40,6 +40,10 @@ SensitivityTable computeSensitivityTable(const std::vector<GraspRecord>& records
         row.filtered_eligible_percent = e.overall.all.percent(e.overall.all.filtered_eligible);
         row.filtered_eligible_after_snapping_percent =
             e.overall.all.percent(e.overall.all.filtered_eligible_after_snapping);
+        const EligibilityCounts& all = e.overall.all;
+        row.off_rim_grasps_percent = all.percent(all.off_rim_grasps);
+        row.raw_eligible_off_rim_percent = all.offRimPercent(all.raw_eligible_off_rim);
+        row.filtered_eligible_off_rim_percent = all.offRimPercent(all.filtered_eligible_off_rim);
         const TableOne t = computeTableOne(mine);
         const TableOneRow& one = t.rows.front();
         row.evaluated = one.evaluated_grasps;
@@ -104,7 +108,10 @@ std::string sensitivityJson(const SensitivityTable& t) {
                     {"filtered_intersection_percent", optional(r.filtered_intersection_percent)},
                     {"filtered_false_positive_percent", optional(r.filtered_false_positive_percent)},
                     {"filtered_eligible_after_snapping_percent",
-                     optional(r.filtered_eligible_after_snapping_percent)}});
+                     optional(r.filtered_eligible_after_snapping_percent)},
+                    {"off_rim_grasps_percent", optional(r.off_rim_grasps_percent)},
+                    {"raw_eligible_off_rim_percent", optional(r.raw_eligible_off_rim_percent)},
+                    {"filtered_eligible_off_rim_percent", optional(r.filtered_eligible_off_rim_percent)}});
   return nlohmann::json{{"object", t.object},
                         {"spacing_m", t.spacing_m},
                         {"noise_levels", t.noise_levels},

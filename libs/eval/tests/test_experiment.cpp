@@ -13,6 +13,7 @@
 #include <tbb/global_control.h>
 
 #include <filesystem>
+#include <limits>
 #include <random>
 
 namespace icrkit::eval {
@@ -56,6 +57,43 @@ TEST(Experiment, IdenticalMeshesGiveTheWholeRegionNoFalsePositivesAndQualityOne)
   }
   EXPECT_GT(regions, 40u);
   EXPECT_GT(qualities, 20u);
+}
+
+TEST(Experiment, EachGraspRecordsItsDistanceFromTheRimOfTheSeenSurface) {
+  const TriangleMesh cad = ellipsoid(4);
+  // The filtered mesh saw all but the underside (z < -20 mm of +-32 mm): its
+  // boundary runs round the ellipsoid there; the vertices below stay, unused.
+  TriangleMesh seen = cad;
+  std::vector<Triangle> kept;
+  std::vector<std::uint8_t> in_kept(cad.vertexCount(), 0), in_removed(cad.vertexCount(), 0);
+  for (const Triangle& f : cad.faces) {
+    const double z = (cad.vertices.positions[f[0]] + cad.vertices.positions[f[1]] + cad.vertices.positions[f[2]]).z() / 3;
+    if (z >= -0.02) kept.push_back(f);
+    for (int k = 0; k < 3; ++k) (z >= -0.02 ? in_kept : in_removed)[f[k]] = 1;
+  }
+  seen.faces = kept;
+  std::vector<Eigen::Vector3d> rim;
+  for (std::size_t v = 0; v < cad.vertexCount(); ++v)
+    if (in_kept[v] && in_removed[v]) rim.push_back(cad.vertices.positions[v]);
+  ASSERT_GT(rim.size(), 20u);
+  const DatasetExperiment experiment({"base unseen", &cad, &cad, &seen}, smallConfig(20));
+  const auto records = experiment.run(0, experiment.itemCount());
+  std::size_t near = 0, far = 0;
+  for (const GraspRecord& r : records) {
+    double expected = std::numeric_limits<double>::infinity();
+    for (const MeshOutcome* m : {&r.raw, &r.filtered})
+      for (int c : m->contacts)
+        for (const Eigen::Vector3d& q : rim) expected = std::min(expected, (cad.vertices.positions[c] - q).norm());
+    ASSERT_TRUE(r.seen_rim_distance_m.has_value());
+    EXPECT_NEAR(*r.seen_rim_distance_m, expected, 1e-12);
+    (*r.seen_rim_distance_m <= 3e-3 ? near : far) += 1;
+  }
+  EXPECT_GT(near, 0u);
+  EXPECT_GT(far, 0u);
+  // A closed filtered mesh has no rim: every grasp is infinitely far from it.
+  const DatasetExperiment closed({"closed", &cad, &cad, &cad}, smallConfig(3));
+  for (const GraspRecord& r : closed.run(0, closed.itemCount()))
+    EXPECT_EQ(r.seen_rim_distance_m, std::numeric_limits<double>::infinity());
 }
 
 TEST(Experiment, NoiseShrinksTheOverlapAndRecordsAreDeterministic) {

@@ -81,6 +81,9 @@ void expectSameRecord(const GraspRecord& expected, const GraspRecord& actual) {
   expectSameMesh(expected.raw, actual.raw, "raw");
   expectSameMesh(expected.filtered, actual.filtered, "filtered");
   EXPECT_EQ(expected.evaluated, actual.evaluated);
+  ASSERT_EQ(expected.seen_rim_distance_m.has_value(), actual.seen_rim_distance_m.has_value());
+  if (expected.seen_rim_distance_m)
+    expectSameDouble(*expected.seen_rim_distance_m, *actual.seen_rim_distance_m, "seen_rim_distance_m");
 }
 
 RegionComparison region(double area, std::optional<double> percent, std::optional<double> quality) {
@@ -187,6 +190,21 @@ TEST(Records, RecordsWithoutTheSnappedOutcomeReadAsNotComputed) {
   std::string not_object = toJsonLine(sampleRecord());
   not_object.insert(not_object.find("\"regions\":", not_object.find("\"filtered\":")), "\"snapped\":[1],");
   EXPECT_THROW(fromJsonLine(not_object, "x", 1), InputError);
+}
+
+TEST(Records, SeenRimDistanceRoundTripsAndOlderRecordsLackIt) {
+  GraspRecord record = sampleRecord();
+  EXPECT_EQ(toJsonLine(record).find("seen_rim_distance_m"), std::string::npos);
+  EXPECT_FALSE(fromJsonLine(toJsonLine(record)).seen_rim_distance_m.has_value());
+  for (double d : {1.0 / 3.0 * 1e-3, 0.0, std::numeric_limits<double>::infinity()}) {
+    record.seen_rim_distance_m = d;
+    const std::string line = toJsonLine(record);
+    expectSameRecord(record, fromJsonLine(line));
+    EXPECT_EQ(line, toJsonLine(fromJsonLine(line)));
+  }
+  std::string malformed = toJsonLine(record);
+  malformed.replace(malformed.find("\"Infinity\""), 10, "true");
+  EXPECT_THROW(fromJsonLine(malformed, "x", 1), InputError);
 }
 
 TEST(Records, NonFiniteDoublesRoundTrip) {

@@ -1,5 +1,7 @@
 #include <icrkit/eval/results_tables.hpp>
 
+#include <icrkit/core/error.hpp>
+
 #include <gtest/gtest.h>
 
 #include "test_support.hpp"
@@ -281,6 +283,53 @@ TEST(TableEligibility, AfterSnappingIsCountedBesideTheStrictCheck) {
                 "after snapping to the nearest kept vertex (not the paper's check)", 0),
             0u);
   EXPECT_TRUE(with["notes"].contains("filtered_snapping_not_recorded"));
+}
+
+GraspRecord atRimDistance(GraspRecord record, std::optional<double> distance) {
+  record.seen_rim_distance_m = distance;
+  return record;
+}
+
+TEST(TableEligibility, AwayFromTheSeenRimIsCountedBesideTheStrictCheck) {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<GraspRecord> records;
+  records.push_back(atRimDistance(evaluated("a", 4, 0, {{10, 1}}, {{1, 0}}), 0.010));          // both eligible, off the rim
+  records.push_back(atRimDistance(notEvaluated("a", 4, 1, true, false, true), 0.001));        // on the rim: out
+  records.push_back(atRimDistance(notEvaluated("a", 4, 2, true, true, false), inf));          // closed mesh: off the rim
+  records.push_back(atRimDistance(notEvaluated("a", 5, 0, false, true, true), 0.003));        // exactly at the bound: out
+  records.push_back(atRimDistance(notEvaluated("b", 5, 0, true, false, true), std::nullopt));  // older record
+  const EligibilitySummary summary = computeEligibility(records);
+  const EligibilityCounts& a = summary.datasets[0].all;
+  EXPECT_EQ(a.off_rim_grasps, 2u);
+  EXPECT_EQ(a.raw_eligible_off_rim, 2u);
+  EXPECT_EQ(a.filtered_eligible_off_rim, 1u);
+  EXPECT_EQ(a.rim_not_recorded, 0u);
+  EXPECT_DOUBLE_EQ(*a.offRimPercent(a.filtered_eligible_off_rim), 50.0);
+  EXPECT_EQ(summary.datasets[0].by_fingers.at(5).off_rim_grasps, 0u);
+  EXPECT_FALSE(summary.datasets[0].by_fingers.at(5).offRimPercent(0).has_value());
+  EXPECT_EQ(summary.datasets[1].all.rim_not_recorded, 1u);
+  EXPECT_EQ(summary.overall.all.off_rim_grasps, 2u);
+  // The strict counts are those of the same records without the distances.
+  std::vector<GraspRecord> plain = records;
+  for (GraspRecord& r : plain) r.seen_rim_distance_m.reset();
+  const EligibilitySummary without = computeEligibility(plain);
+  EXPECT_EQ(without.overall.all.raw_eligible, summary.overall.all.raw_eligible);
+  EXPECT_EQ(without.overall.all.filtered_eligible, summary.overall.all.filtered_eligible);
+  EXPECT_EQ(without.overall.all.rim_not_recorded, 5u);
+  EXPECT_EQ(tableOneJson(computeTableOne(plain)), tableOneJson(computeTableOne(records)));
+  // A wider rim leaves fewer grasps; the bound and the keys are in the JSON.
+  TableOneOptions wide;
+  wide.seen_rim_distance_m = 0.02;
+  EXPECT_EQ(computeEligibility(records, wide).overall.all.off_rim_grasps, 1u);
+  const auto json = nlohmann::json::parse(eligibilityJson(summary));
+  EXPECT_DOUBLE_EQ(json["seen_rim_distance_m"].get<double>(), 0.003);
+  EXPECT_EQ(json["overall"]["all"]["off_rim_grasps"].get<int>(), 2);
+  EXPECT_DOUBLE_EQ(json["overall"]["all"]["raw_eligible_off_rim_percent"].get<double>(), 100.0);
+  EXPECT_DOUBLE_EQ(json["overall"]["all"]["filtered_eligible_off_rim_percent"].get<double>(), 50.0);
+  EXPECT_TRUE(json["notes"].contains("off_rim"));
+  TableOneOptions negative;
+  negative.seen_rim_distance_m = -1.0;
+  EXPECT_THROW(computeEligibility(records, negative), InputError);
 }
 
 TEST(TableWriters, WritesAllFourFiles) {

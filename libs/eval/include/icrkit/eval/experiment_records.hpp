@@ -97,6 +97,15 @@ struct GraspRecord {
   MeshOutcome raw;
   MeshOutcome filtered;
   bool evaluated = false;                  ///< both mapped grasps eligible: regions were computed
+  /// How far the grasp is from the rim of the seen surface: the smallest
+  /// distance (m) from a contact of G^R or G^F (as mapped by eq. (2)) to the
+  /// filtered mesh's boundary (its vertices on an edge only one face uses),
+  /// in the common frame. Infinity when the filtered mesh has no boundary or
+  /// no contact was mapped; unset in records written before it existed. A
+  /// CAD grasp on or near surface no view saw (an object's base) is mapped
+  /// onto that rim; results_tables.hpp reports eligibility without such
+  /// grasps beside the paper's (TableOneOptions::seen_rim_distance_m).
+  std::optional<double> seen_rim_distance_m;
 
   /// Records sort by (dataset, fingers, index): the order of every output.
   bool operator<(const GraspRecord& other) const;

@@ -41,6 +41,12 @@ struct TableOneOptions {
   std::vector<std::string> dataset_order;
   /// Only grasps with this many fingers; 0 (default): 4 and 5 together, as in the paper.
   std::size_t fingers = 0;
+  /// Eligibility is also reported for the grasps farther than this (m)
+  /// from the rim of the seen surface (GraspRecord::seen_rim_distance_m):
+  /// the rim of what the views saw, where a smoothing window is half empty
+  /// and the preselection's isolation test fires. 3 mm: about the smoothing
+  /// radius of the datasets (3.2 mm on the real recording).
+  double seen_rim_distance_m = 3e-3;
 };
 
 struct TableOne {
@@ -69,9 +75,22 @@ struct EligibilityCounts {
   /// or snapping switched off): filtered_eligible_after_snapping is then a
   /// lower bound.
   std::size_t filtered_snapping_not_recorded = 0;
+  /// Eligibility on surface the views saw (not the paper's figure, beside
+  /// it): grasps farther than TableOneOptions::seen_rim_distance_m from the
+  /// rim of the seen surface, and of those the eligible ones. A grasp on or
+  /// near surface no view saw (an object's base) is mapped by eq. (2) onto
+  /// that rim on both meshes; it judges neither reconstruction.
+  std::size_t off_rim_grasps = 0;
+  std::size_t raw_eligible_off_rim = 0;
+  std::size_t filtered_eligible_off_rim = 0;
+  /// Records without the rim distance (written before it existed): in none
+  /// of the three counts above.
+  std::size_t rim_not_recorded = 0;
 
   /// 100 count / grasps; unset without grasps.
   std::optional<double> percent(std::size_t count) const;
+  /// 100 count / off_rim_grasps; unset without such grasps.
+  std::optional<double> offRimPercent(std::size_t count) const;
 };
 
 struct EligibilityGroup {
@@ -83,6 +102,7 @@ struct EligibilityGroup {
 struct EligibilitySummary {
   std::vector<EligibilityGroup> datasets;  ///< in the order of TableOneOptions::dataset_order
   EligibilityGroup overall;
+  double seen_rim_distance_m = 0.0;        ///< TableOneOptions::seen_rim_distance_m used for the off-rim counts
 };
 
 /// Per dataset and overall; `options.fingers` is ignored (every finger count is reported).

@@ -104,6 +104,9 @@ struct SensitivityRow {
   std::optional<double> raw_eligible_percent, filtered_eligible_percent;
   /// After snapping to the nearest kept vertex (not the paper's check; JSON only).
   std::optional<double> filtered_eligible_after_snapping_percent;
+  /// Eligibility of the grasps away from the rim of the seen surface
+  /// (EligibilityCounts::off_rim_grasps; not the paper's check; JSON only).
+  std::optional<double> off_rim_grasps_percent, raw_eligible_off_rim_percent, filtered_eligible_off_rim_percent;
   std::optional<double> raw_intersection_percent, raw_false_positive_percent;
   std::optional<double> filtered_intersection_percent, filtered_false_positive_percent;
   std::size_t evaluated = 0;
