@@ -155,6 +155,9 @@ struct DatasetExperiment::Impl {
 
   /// GraspRecord::seen_rim_distance_m of the mapped grasps.
   double seenRimDistance(const MeshOutcome& raw, const MeshOutcome& filtered) const {
+    // A contact whose normal line reaches neither mesh lies beyond what the
+    // views saw: on the rim or past it.
+    if (raw.contacts.empty() || filtered.contacts.empty()) return 0.0;
     double nearest = std::numeric_limits<double>::infinity();
     if (!filtered_rim) return nearest;
     const auto visit = [&](const std::vector<int>& contacts, const TriangleMesh& mesh) {

@@ -100,8 +100,10 @@ struct GraspRecord {
   /// How far the grasp is from the rim of the seen surface: the smallest
   /// distance (m) from a contact of G^R or G^F (as mapped by eq. (2)) to the
   /// filtered mesh's boundary (its vertices on an edge only one face uses),
-  /// in the common frame. Infinity when the filtered mesh has no boundary or
-  /// no contact was mapped; unset in records written before it existed. A
+  /// in the common frame. 0 when a contact could not be mapped onto one of
+  /// the meshes (its normal line reaches no surface there: beyond the seen
+  /// surface); Infinity when the filtered mesh has no boundary; unset in
+  /// records written before it existed. A
   /// CAD grasp on or near surface no view saw (an object's base) is mapped
   /// onto that rim; results_tables.hpp reports eligibility without such
   /// grasps beside the paper's (TableOneOptions::seen_rim_distance_m).
