@@ -253,21 +253,13 @@ public:
   // flakes of a noisy layer beside the surface. Returns how many went.
   std::size_t removeSmallComponents(std::size_t min_faces) {
     if (min_faces < 2) return 0;
-    std::vector<int> parent(p_.size());
-    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
-    auto root = [&](int v) {
-      while (parent[v] != v) v = parent[v] = parent[parent[v]];
-      return v;
-    };
-    for (const Triangle& f : faces_)
-      if (f[0] >= 0)
-        for (int k = 1; k < 3; ++k) parent[root(f[k])] = root(f[0]);
+    const std::vector<int> piece = facePieces();
     std::vector<std::size_t> size(p_.size(), 0);
-    for (const Triangle& f : faces_)
-      if (f[0] >= 0) ++size[root(f[0])];
+    for (int root : piece)
+      if (root >= 0) ++size[root];
     std::size_t removed = 0;
     for (std::size_t face = 0; face < faces_.size(); ++face)
-      if (faces_[face][0] >= 0 && size[root(faces_[face][0])] < min_faces) {
+      if (piece[face] >= 0 && size[piece[face]] < min_faces) {
         removeFace(static_cast<int>(face));
         ++removed;
       }
@@ -354,9 +346,9 @@ private:
     return area;
   }
 
-  // Labels the faces' connected pieces (through shared points) and sums
-  // their areas, before any hole is filled.
-  void labelComponents() {
+  // Per face slot: a point of its connected piece (pieces touch through
+  // shared points) standing for the piece; -1 for a removed face.
+  std::vector<int> facePieces() const {
     std::vector<int> parent(p_.size());
     for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
     auto root = [&](int v) {
@@ -366,12 +358,20 @@ private:
     for (const Triangle& f : faces_)
       if (f[0] >= 0)
         for (int k = 1; k < 3; ++k) parent[root(f[k])] = root(f[0]);
-    face_component_.assign(faces_.size(), -1);
+    std::vector<int> piece(faces_.size(), -1);
+    for (std::size_t face = 0; face < faces_.size(); ++face)
+      if (faces_[face][0] >= 0) piece[face] = root(faces_[face][0]);
+    return piece;
+  }
+
+  // Labels the faces' connected pieces (through shared points) and sums
+  // their areas, before any hole is filled.
+  void labelComponents() {
+    face_component_ = facePieces();
     component_area_.assign(p_.size(), 0.0);
     for (std::size_t face = 0; face < faces_.size(); ++face) {
       const Triangle& f = faces_[face];
       if (f[0] < 0) continue;
-      face_component_[face] = root(f[0]);
       component_area_[face_component_[face]] += 0.5 * (p_[f[1]] - p_[f[0]]).cross(p_[f[2]] - p_[f[0]]).norm();
     }
   }
