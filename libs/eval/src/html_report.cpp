@@ -425,13 +425,13 @@ void writeEligibility(std::ostringstream& out, const HtmlReportInput& input) {
          "<td class=\"paper\">&ndash;</td><td class=\"paper\">&ndash;</td></tr>\n"
          "</tbody>\n</table>\n<p class=\"note\">A mapped grasp is eligible when it fulfils the task (force closure, "
          "its GWS holds the TWS) and, on the filtered mesh, avoids excluded vertices. Grasps eligible on both meshes "
-         "are evaluated. The last column is not the paper's check: it also counts a filtered grasp whose contacts on "
+         "are evaluated. The column \"after snapping\" is not the paper's check: it also counts a filtered grasp whose contacts on "
          "excluded vertices, each moved to the nearest kept vertex within the mapping's neighbourhood radius, meet the "
-         "task (what a planner would do); a grasp eligible only after snapping is not evaluated. The last column "
-         "keeps only grasps whose mapped contacts all lie farther than "
+         "task (what a planner would do); a grasp eligible only after snapping is not evaluated. The column \"away from "
+         "the rim\" (not the paper's check either) keeps only grasps whose mapped contacts all lie farther than "
       << fixed(input.eligibility->seen_rim_distance_m * 1e3, 1)
-      << " mm from the filtered mesh's boundary, the rim of what the views saw: a grasp on surface no view saw "
-         "(an object's base) is mapped onto that rim on both meshes.</p>\n</section>\n";
+      << " mm from the filtered mesh's boundary (the rim of what the views saw, and of the holes left open): a "
+         "grasp on surface no view saw (an object's base) is mapped onto that rim on both meshes.</p>\n</section>\n";
 }
 
 void writeViewer(std::ostringstream& out, const HtmlReportInput& input, HtmlReportSizes& sizes) {

@@ -91,6 +91,7 @@ TEST(Experiment, EachGraspRecordsItsDistanceFromTheRimOfTheSeenSurface) {
     EXPECT_NEAR(*r.seen_rim_distance_m, expected, 1e-12);
     (*r.seen_rim_distance_m <= 3e-3 ? near : far) += 1;
   }
+  EXPECT_GT(unmapped, 0u);  // grasps under the unseen underside reach no filtered surface: distance 0
   EXPECT_GT(near, unmapped);
   EXPECT_GT(far, 0u);
   // A closed filtered mesh has no rim: every grasp is infinitely far from it.

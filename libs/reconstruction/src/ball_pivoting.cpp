@@ -30,11 +30,6 @@ namespace {
 
 using Eigen::Vector3d;
 
-// A folded hole's fill may cover at most this share of the piece of surface
-// it joins: a hole, not a cap over a flake's or a sheet's outer rim (whose
-// fill is as large as the sheet).
-constexpr double kFoldFillShare = 0.1;
-
 // A strictly increasing function of the angle atan2(sine, cosine) taken
 // in [0, 2 pi), with values in [0, 4): the ball's rotation compared without
 // a call to atan2. A point on the old ball's sphere (a planar quad's fourth
@@ -215,7 +210,6 @@ public:
     std::size_t filled = 0;
     std::vector<std::vector<int>> stubborn, stubborn_seen;
     support_distance_ = support_distance;
-    if (params_.fill_folded_holes) labelComponents();
     for (const std::vector<int>& cycle : simpleBoundaryCycles()) {
       if (withinBounds(cycle, max_edges, max_perimeter)) {
         if (fillCycle(cycle, false)) ++filled;
@@ -243,6 +237,19 @@ public:
                                        refillAround(cycle, seen_edges + 60, unbounded, 2, true)))
           ++filled;
       vertex_faces_.clear();
+      refreshUse();
+    }
+    // Last, the folded holes: only what every strict fill above, with its
+    // rings re-opened, left open.
+    if (params_.fill_folded_holes && support_distance > 0.0) {
+      labelPieces();
+      for (const std::vector<int>& cycle : simpleBoundaryCycles())
+        if ((withinBounds(cycle, max_edges, max_perimeter) || cycle.size() <= seen_edges) && fillFoldedCycle(cycle)) {
+          ++filled;
+          ++folded_holes_;
+        }
+      face_piece_.clear();
+      piece_area_.clear();
       refreshUse();
     }
     front_.clear();  // the faces added here need no pivoting
@@ -318,25 +325,56 @@ private:
       const int e = findEdge(polygon[x], polygon[y]);
       return e < 0 || edges_[e].faceCount() == 0;
     };
-    PolygonTriangulation fill = triangulatePolygon(positions, normals, chord_allowed);
-    const bool folded = !fill.found && params_.fill_folded_holes && support_distance_ > 0.0;
-    if (folded) {
-      // A rim folded over (where two sheets of a noisy layer met, or along
-      // a sharp edge) has no fill that faces its normals everywhere: it
-      // is closed anyway when the fill lies on seen surface. The outer rim
-      // of a flake or of a small open sheet looks the same from its
-      // normals, and a fill over it is a copy of the sheet turned round:
-      // so the fill must be small against the piece of surface it joins.
-      fill = triangulatePolygon(positions, normals, chord_allowed, FillFacing::prefer_agreeing);
-      if (fill.found && !(fillArea(fill.triangles, polygon) <= kFoldFillShare * rimComponentArea(cycle)))
-        return false;
-      must_be_seen = true;
-    }
+    const PolygonTriangulation fill = triangulatePolygon(positions, normals, chord_allowed);
     if (!fill.found) return false;
     if (must_be_seen && !seen(fill.triangles, polygon)) return false;
     for (const auto& t : fill.triangles) addFace(polygon[t[0]], polygon[t[1]], polygon[t[2]]);
-    if (folded) ++folded_holes_;
     return true;
+  }
+
+  // The last chance of a hole every strict fill left open: its rim folded
+  // over (where two sheets of a noisy layer met, along a sharp edge), so no
+  // fill faces its normals everywhere. It is closed anyway, disagreeing
+  // faces allowed but penalised, when the fill lies on seen surface, covers
+  // at most `folded_hole_max_share` of the piece of surface it joins (the
+  // outer rim of a flake or of a small open sheet also winds against its
+  // normals, and a fill over it would be a copy of the sheet turned round)
+  // and repeats no face back to back. Needs labelPieces() first.
+  bool fillFoldedCycle(const std::vector<int>& cycle) {
+    const std::vector<int> polygon(cycle.rbegin(), cycle.rend());
+    std::vector<Vector3d> positions, normals;
+    for (int v : polygon) {
+      positions.push_back(p_[v]);
+      normals.push_back(normals_[v]);
+    }
+    const auto chord_allowed = [&](int x, int y) {
+      if (polygon[x] == polygon[y]) return false;
+      const int e = findEdge(polygon[x], polygon[y]);
+      return e < 0 || edges_[e].faceCount() == 0;
+    };
+    const PolygonTriangulation fill =
+        triangulatePolygon(positions, normals, chord_allowed, FillFacing::prefer_agreeing);
+    if (!fill.found) return false;
+    const int piece = rimPiece(cycle);
+    if (piece < 0 || !(fillArea(fill.triangles, polygon) <= params_.folded_hole_max_share * piece_area_[piece]))
+      return false;
+    for (const auto& t : fill.triangles)
+      if (hasFace(polygon[t[0]], polygon[t[1]], polygon[t[2]])) return false;
+    if (!seen(fill.triangles, polygon)) return false;
+    for (const auto& t : fill.triangles) addFace(polygon[t[0]], polygon[t[1]], polygon[t[2]]);
+    face_piece_.resize(faces_.size(), piece);
+    return true;
+  }
+
+  // Whether some face already has the points a, b, c (in any order).
+  bool hasFace(int a, int b, int c) const {
+    const int e = findEdge(a, b);
+    if (e < 0) return false;
+    for (int face : edges_[e].faces)
+      if (face >= 0)
+        for (int k = 0; k < 3; ++k)
+          if (faces_[face][k] == c) return true;
+    return false;
   }
 
   double fillArea(const std::vector<std::array<int, 3>>& faces, const std::vector<int>& polygon) const {
@@ -347,7 +385,8 @@ private:
   }
 
   // Per face slot: a point of its connected piece (pieces touch through
-  // shared points) standing for the piece; -1 for a removed face.
+  // shared points, as components are counted) standing for the piece; -1
+  // for a removed face.
   std::vector<int> facePieces() const {
     std::vector<int> parent(p_.size());
     for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
@@ -364,29 +403,35 @@ private:
     return piece;
   }
 
-  // Labels the faces' connected pieces (through shared points) and sums
-  // their areas, before any hole is filled.
-  void labelComponents() {
-    face_component_ = facePieces();
-    component_area_.assign(p_.size(), 0.0);
+  // Labels the faces' pieces connected across shared edges (a flake that
+  // touches the surface at one point is a piece of its own) and sums their
+  // areas.
+  void labelPieces() {
+    std::vector<int> parent(faces_.size());
+    for (std::size_t f = 0; f < parent.size(); ++f) parent[f] = static_cast<int>(f);
+    auto root = [&](int f) {
+      while (parent[f] != f) f = parent[f] = parent[parent[f]];
+      return f;
+    };
+    for (const Edge& edge : edges_)
+      if (edge.faces[0] >= 0 && edge.faces[1] >= 0) parent[root(edge.faces[0])] = root(edge.faces[1]);
+    face_piece_.assign(faces_.size(), -1);
+    piece_area_.assign(faces_.size(), 0.0);
     for (std::size_t face = 0; face < faces_.size(); ++face) {
       const Triangle& f = faces_[face];
       if (f[0] < 0) continue;
-      component_area_[face_component_[face]] += 0.5 * (p_[f[1]] - p_[f[0]]).cross(p_[f[2]] - p_[f[0]]).norm();
+      face_piece_[face] = root(static_cast<int>(face));
+      piece_area_[face_piece_[face]] += 0.5 * (p_[f[1]] - p_[f[0]]).cross(p_[f[2]] - p_[f[0]]).norm();
     }
   }
 
-  // The area of the piece of surface (as labelled before the filling) that
-  // borders `cycle`; 0 when none of its faces is that old.
-  double rimComponentArea(const std::vector<int>& cycle) const {
-    for (std::size_t v = 0; v < cycle.size(); ++v) {
-      const int e = findEdge(cycle[v], cycle[(v + 1) % cycle.size()]);
-      if (e < 0) continue;
-      for (int face : edges_[e].faces)
-        if (face >= 0 && static_cast<std::size_t>(face) < face_component_.size() && face_component_[face] >= 0)
-          return component_area_[face_component_[face]];
-    }
-    return 0.0;
+  // The piece whose face borders the first side of `cycle`; -1 for none.
+  int rimPiece(const std::vector<int>& cycle) const {
+    const int e = findEdge(cycle[0], cycle[1 % cycle.size()]);
+    if (e < 0) return -1;
+    for (int face : edges_[e].faces)
+      if (face >= 0 && static_cast<std::size_t>(face) < face_piece_.size()) return face_piece_[face];
+    return -1;
   }
 
   // `rings` rings of faces around the hole's points are taken out.
@@ -721,8 +766,8 @@ private:
   std::vector<std::vector<int>> vertex_faces_;  // per vertex: its faces, during hole repair only
   std::optional<KdTree> support_;               // every input point, for holes that must have been seen
   double support_distance_ = 0.0;
-  std::vector<int> face_component_;     // per face present when the filling began: its piece's root
-  std::vector<double> component_area_;  // per root: the piece's area (m^2)
+  std::vector<int> face_piece_;     // folded-hole pass: per face, its edge-connected piece (a face index)
+  std::vector<double> piece_area_;  // per piece: its area (m^2)
   std::size_t folded_holes_ = 0;
   std::vector<Edge> edges_;
   std::vector<Triangle> faces_;
@@ -854,6 +899,8 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   pivoter.run(radii, report);
   if (!std::isfinite(params.hole_perimeter_factor))
     throw InputError("hole_perimeter_factor", "", "must be finite");
+  if (!(params.folded_hole_max_share >= 0.0) || !std::isfinite(params.folded_hole_max_share))
+    throw InputError("folded_hole_max_share", "", "must be finite and >= 0");
   report.closed_holes = pivoter.fillHoles(params.close_holes_up_to, params.hole_perimeter_factor * radii.back(),
                                           params.seen_holes_up_to, radii.back());
   report.folded_holes = pivoter.foldedHoles();

@@ -15,6 +15,7 @@
 #include <iostream>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -318,6 +319,15 @@ TEST(BallPivoting, AnOpenSheetsOuterRimIsNeverCapped) {
     EXPECT_EQ(r.mesh.faces.size(), static_cast<std::size_t>(2 * (n - 1) * (n - 1))) << n;
     params.fill_folded_holes = false;
     EXPECT_EQ(ballPivoting(sheet, params).mesh.faces, r.mesh.faces) << n;
+    // The size check is what keeps it open: without it the rim is capped
+    // by a turned-round copy of the sheet (on seen surface, no face
+    // repeated), and the sheet becomes a closed pillow.
+    params.fill_folded_holes = true;
+    params.folded_hole_max_share = 1e9;
+    const BallPivotingResult capped = ballPivoting(sheet, params);
+    std::printf("sheet %d: capped %zu folded, %zu loops\n", n, capped.report.folded_holes, capped.report.boundary_loops);
+    EXPECT_EQ(capped.report.folded_holes, 1u) << n;
+    EXPECT_EQ(capped.report.boundary_loops, 0u) << n;
   }
 }
 

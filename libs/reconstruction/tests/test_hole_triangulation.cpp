@@ -66,6 +66,19 @@ TEST(HoleTriangulation, AFoldedRimIsFilledOnlyWhenDisagreementIsAllowed) {
   ASSERT_TRUE(strict.found);
   ASSERT_TRUE(tolerant.found);
   EXPECT_EQ(strict.triangles, tolerant.triangles);
+  // A bent quad whose smaller fill (diagonal 0-2, 1.40 against 1.45) has a
+  // face against its corners' normals: the tolerant fill still takes the
+  // agreeing diagonal 1-3, as the strict one must.
+  const std::vector<Eigen::Vector3d> bent{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 2.1, -1}};
+  const std::vector<Eigen::Vector3d> tipped{{0.8, -0.7, 0.3}, {0.3, 0, 0.2}, {0.1, -0.7, 0.6}, {-0.9, -0.5, 1.2}};
+  for (const FillFacing facing : {FillFacing::agree, FillFacing::prefer_agreeing}) {
+    const PolygonTriangulation t = triangulatePolygon(bent, tipped, kAnyChord, facing);
+    ASSERT_TRUE(t.found);
+    for (const auto& f : t.triangles) {
+      const std::set<int> corners(f.begin(), f.end());
+      EXPECT_TRUE(corners.count(1) && corners.count(3)) << "took the disagreeing diagonal 0-2";
+    }
+  }
 }
 
 TEST(HoleTriangulation, ForbiddenChordTakesTheOtherDiagonal) {

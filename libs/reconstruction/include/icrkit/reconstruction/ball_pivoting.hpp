@@ -78,12 +78,19 @@ struct BallPivotingParameters {
   std::size_t seen_holes_up_to = 200;
   /// A hole whose rim is folded over (the surface overlaps itself at the
   /// rim: where two sheets of a noisy layer met, along a sharp edge) has no
-  /// fill whose faces all agree with the point normals. With this on, such
-  /// a hole (of either size above) is filled anyway, disagreeing faces
-  /// allowed but penalised, when the whole fill lies on seen surface (the
-  /// test of `seen_holes_up_to`). The fold stays a crease one or two faces
-  /// wide; regions and mappings use the vertex normals, not the faces'.
+  /// fill whose faces all agree with the point normals. With this on, the
+  /// holes of either size above that every strict fill left open are, last,
+  /// filled with disagreeing faces allowed but penalised, when the whole
+  /// fill lies on seen surface (the test of `seen_holes_up_to`), repeats no
+  /// face back to back and covers at most `folded_hole_max_share` of the
+  /// piece of surface (faces connected across edges) it joins. The fold
+  /// stays a crease one or two faces wide; regions and mappings use the
+  /// vertex normals, not the faces'.
   bool fill_folded_holes = true;
+  /// The outer rim of a flake or of a small open sheet also winds against
+  /// its normals, and a fill over it is as large as the sheet: a hole's fill
+  /// is a small part of the surface around it.
+  double folded_hole_max_share = 0.1;
   /// Finally, components (faces connected through shared points) with
   /// fewer faces than this are taken out, their points left unused: flakes
   /// of a noisy layer beside the surface. 0 = keep everything (the
