@@ -311,21 +311,29 @@ private:
     return true;
   }
 
-  bool fillCycle(const std::vector<int>& cycle, bool must_be_seen) {
-    // The cycle runs as its faces run their edges; the hole's faces run
-    // them the other way, so the polygon is the cycle reversed.
-    const std::vector<int> polygon(cycle.rbegin(), cycle.rend());
+  // The hole's polygon over its own points: no chord may be an edge
+  // already, so the mesh stays edge-manifold.
+  PolygonTriangulation triangulateHole(const std::vector<int>& polygon, FillFacing facing) const {
     std::vector<Vector3d> positions, normals;
     for (int v : polygon) {
       positions.push_back(p_[v]);
       normals.push_back(normals_[v]);
     }
-    const auto chord_allowed = [&](int x, int y) {
-      if (polygon[x] == polygon[y]) return false;
-      const int e = findEdge(polygon[x], polygon[y]);
-      return e < 0 || edges_[e].faceCount() == 0;
-    };
-    const PolygonTriangulation fill = triangulatePolygon(positions, normals, chord_allowed);
+    return triangulatePolygon(
+        positions, normals,
+        [&](int x, int y) {
+          if (polygon[x] == polygon[y]) return false;
+          const int e = findEdge(polygon[x], polygon[y]);
+          return e < 0 || edges_[e].faceCount() == 0;
+        },
+        facing);
+  }
+
+  bool fillCycle(const std::vector<int>& cycle, bool must_be_seen) {
+    // The cycle runs as its faces run their edges; the hole's faces run
+    // them the other way, so the polygon is the cycle reversed.
+    const std::vector<int> polygon(cycle.rbegin(), cycle.rend());
+    const PolygonTriangulation fill = triangulateHole(polygon, FillFacing::agree);
     if (!fill.found) return false;
     if (must_be_seen && !seen(fill.triangles, polygon)) return false;
     for (const auto& t : fill.triangles) addFace(polygon[t[0]], polygon[t[1]], polygon[t[2]]);
@@ -342,18 +350,7 @@ private:
   // and repeats no face back to back. Needs labelPieces() first.
   bool fillFoldedCycle(const std::vector<int>& cycle) {
     const std::vector<int> polygon(cycle.rbegin(), cycle.rend());
-    std::vector<Vector3d> positions, normals;
-    for (int v : polygon) {
-      positions.push_back(p_[v]);
-      normals.push_back(normals_[v]);
-    }
-    const auto chord_allowed = [&](int x, int y) {
-      if (polygon[x] == polygon[y]) return false;
-      const int e = findEdge(polygon[x], polygon[y]);
-      return e < 0 || edges_[e].faceCount() == 0;
-    };
-    const PolygonTriangulation fill =
-        triangulatePolygon(positions, normals, chord_allowed, FillFacing::prefer_agreeing);
+    const PolygonTriangulation fill = triangulateHole(polygon, FillFacing::prefer_agreeing);
     if (!fill.found) return false;
     const int piece = rimPiece(cycle);
     if (piece < 0 || !(fillArea(fill.triangles, polygon) <= params_.folded_hole_max_share * piece_area_[piece]))
