@@ -161,11 +161,9 @@ struct DatasetExperiment::Impl {
     double nearest = std::numeric_limits<double>::infinity();
     if (!filtered_rim) return nearest;
     const auto visit = [&](const std::vector<int>& contacts, const TriangleMesh& mesh) {
-      for (int c : contacts)
-        if (c >= 0)
-          nearest = std::min(nearest, filtered_rim->nearest(mesh.vertices.positions[static_cast<std::size_t>(c)], 1)
-                                          .front()
-                                          .distance);
+      for (int c : contacts)  // mapped contacts are vertices (an unmapped grasp has none)
+        nearest = std::min(
+            nearest, filtered_rim->nearest(mesh.vertices.positions[static_cast<std::size_t>(c)], 1).front().distance);
     };
     visit(raw.contacts, *meshes.raw);
     visit(filtered.contacts, *meshes.filtered);

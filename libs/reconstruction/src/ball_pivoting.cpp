@@ -374,10 +374,11 @@ private:
     return false;
   }
 
+  double triangleArea(int a, int b, int c) const { return 0.5 * (p_[b] - p_[a]).cross(p_[c] - p_[a]).norm(); }
+
   double fillArea(const std::vector<std::array<int, 3>>& faces, const std::vector<int>& polygon) const {
     double area = 0.0;
-    for (const auto& t : faces)
-      area += 0.5 * (p_[polygon[t[1]]] - p_[polygon[t[0]]]).cross(p_[polygon[t[2]]] - p_[polygon[t[0]]]).norm();
+    for (const auto& t : faces) area += triangleArea(polygon[t[0]], polygon[t[1]], polygon[t[2]]);
     return area;
   }
 
@@ -418,7 +419,7 @@ private:
       const Triangle& f = faces_[face];
       if (f[0] < 0) continue;
       face_piece_[face] = root(static_cast<int>(face));
-      piece_area_[face_piece_[face]] += 0.5 * (p_[f[1]] - p_[f[0]]).cross(p_[f[2]] - p_[f[0]]).norm();
+      piece_area_[face_piece_[face]] += triangleArea(f[0], f[1], f[2]);
     }
   }
 
