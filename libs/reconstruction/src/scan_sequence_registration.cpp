@@ -42,6 +42,22 @@ PointCloud positionsOnly(const std::vector<Eigen::Vector3d>& points) {
   return cloud;
 }
 
+// Unit normals of a scan's points (scan frame), or none for too few points.
+// Neither the point-to-plane residual nor the observability depends on a
+// normal's sign: facing them to the sensor (the frame's origin) costs
+// nothing, orienting them over a neighbour graph a third of their time.
+std::optional<std::vector<Eigen::Vector3d>> tangentNormals(const std::vector<Eigen::Vector3d>& points) {
+  PointCloud cloud = positionsOnly(points);
+  ndt::NormalEstimationParameters facing;
+  facing.viewpoint = Eigen::Vector3d::Zero();
+  try {
+    ndt::estimateNormals(cloud, facing);
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
+  return std::move(cloud.normals);
+}
+
 // Centroids of the model's points per cube. An ordered map: the target is
 // built from the centroids in key order, so the model does not depend on
 // hash-table layout.
@@ -197,13 +213,8 @@ struct SequenceRegistration::Impl {
 
   std::vector<Eigen::Vector3d> surfaceNormals(const std::vector<Eigen::Vector3d>& points) const {
     if (!(params.degeneracy_ratio > 0)) return {};
-    PointCloud cloud = positionsOnly(points);
-    try {
-      ndt::estimateNormals(cloud);
-    } catch (const InputError&) {
-      return std::vector<Eigen::Vector3d>(points.size(), Eigen::Vector3d::Zero());  // too few points: nothing observed
-    }
-    return cloud.normals;
+    // Too few points: nothing observed.
+    return tangentNormals(points).value_or(std::vector<Eigen::Vector3d>(points.size(), Eigen::Vector3d::Zero()));
   }
 
   // Why a registration result is not used, or empty when it is. The move
@@ -411,17 +422,10 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     }
     if (s.normals[i].size() != s.reduced[i].size()) s.normals[i] = s.surfaceNormals(s.reduced[i]);
     if (!params.icp_refinement || s.reduced[i].size() < 3) return;
-    std::vector<Eigen::Vector3d> normals = s.normals[i];
-    if (normals.size() != s.reduced[i].size()) {
-      PointCloud cloud = positionsOnly(s.reduced[i]);
-      try {
-        ndt::estimateNormals(cloud);
-        normals = cloud.normals;
-      } catch (const InputError&) {
-        return;
-      }
-    }
-    icp_targets[i].emplace(s.reduced[i], std::move(normals));
+    std::optional<std::vector<Eigen::Vector3d>> normals = s.normals[i];
+    if (normals->size() != s.reduced[i].size()) normals = tangentNormals(s.reduced[i]);
+    if (!normals) return;
+    icp_targets[i].emplace(s.reduced[i], std::move(*normals));
     if (params.icp_source_voxel_size > 0) {
       VoxelModel cubes(params.icp_source_voxel_size);
       cubes.add(s.reduced[i], Eigen::Isometry3d::Identity());
