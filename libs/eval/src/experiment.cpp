@@ -184,7 +184,8 @@ struct DatasetExperiment::Impl {
                            const TriangleMesh& scan, const VertexFaces& scan_faces, const icr::ContactRegion& scan_region,
                            DistanceWorkspace& workspace, std::vector<int>* mapped_out = nullptr) const;
   /// Picks one vertex per region (as CAD vertices: `mapped` follows each
-  /// region's vertex order), checks them on the CAD mesh.
+  /// region's vertex order), checks them on the CAD mesh; and the grasp of
+  /// the regions' recommended contacts.
   PickCheck checkPicks(const std::vector<icr::ContactRegion>& regions, const std::vector<std::vector<int>>& mapped,
                        double tws_radius, std::uint64_t seed) const;
   GraspRecord evaluate(std::size_t set, std::size_t index, DistanceWorkspace& workspace) const;
@@ -308,6 +309,17 @@ PickCheck DatasetExperiment::Impl::checkPicks(const std::vector<icr::ContactRegi
     ++check.mapped;
     if (checkTask(cad_contacts, tws_radius, cad_object).fulfilled) ++check.held;
   }
+  std::vector<int> aimed;
+  for (std::size_t n = 0; n < regions.size(); ++n) {
+    const std::vector<int>& vertices = regions[n].vertices;
+    const auto at = std::lower_bound(vertices.begin(), vertices.end(), regions[n].recommended.vertex);
+    const auto k = static_cast<std::size_t>(at - vertices.begin());
+    const bool known = at != vertices.end() && *at == regions[n].recommended.vertex && k < mapped[n].size();
+    aimed.push_back(known ? mapped[n][k] : -1);
+  }
+  const std::set<int> distinct(aimed.begin(), aimed.end());
+  check.aimed_held = distinct.count(-1) == 0 && distinct.size() == aimed.size() &&
+                     checkTask(aimed, tws_radius, cad_object).fulfilled;
   return check;
 }
 

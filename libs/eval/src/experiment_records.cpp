@@ -74,7 +74,9 @@ Json snappedToJson(const SnappedOutcome& snapped) {
 }
 
 Json picksToJson(const PickCheck& picks) {
-  return Json{{"tried", picks.tried}, {"mapped", picks.mapped}, {"held", picks.held}};
+  Json j{{"tried", picks.tried}, {"mapped", picks.mapped}, {"held", picks.held}};
+  if (picks.aimed_held) j["aimed_held"] = *picks.aimed_held;
+  return j;
 }
 
 Json meshToJson(const MeshOutcome& mesh) {
@@ -262,6 +264,8 @@ std::optional<PickCheck> picksFromJson(const FieldReader& in, const Json& j, con
   check.tried = in.count(picks, picksPath, "tried");
   check.mapped = in.count(picks, picksPath, "mapped");
   check.held = in.count(picks, picksPath, "held");
+  const Json& aimed = in.optionalMember(picks, picksPath, "aimed_held");
+  if (!aimed.is_null()) check.aimed_held = in.boolean(picks, picksPath, "aimed_held");
   return check;
 }
 

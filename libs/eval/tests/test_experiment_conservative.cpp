@@ -57,6 +57,8 @@ TEST(ExperimentConservative, KZeroRepeatsThePlainRegionsAndLargerKShrinksThem) {
       EXPECT_EQ(m->picks->tried, config.picks_per_grasp);
       EXPECT_LE(m->picks->held, m->picks->mapped);
       EXPECT_LE(m->picks->mapped, m->picks->tried);
+      // Drawn picks come with the aimed grasp's verdict.
+      EXPECT_EQ(m->picks->aimed_held.has_value(), m->picks->tried > 0);
       for (const ConservativeOutcome& c : m->conservative) ASSERT_TRUE(c.picks.has_value());
     }
     // The records round-trip with the new fields.
@@ -80,8 +82,32 @@ TEST(ExperimentConservative, KZeroRepeatsThePlainRegionsAndLargerKShrinksThem) {
   // Picks from regions of a near-perfect reconstruction hold on the CAD mesh.
   EXPECT_GT(plain.filtered.picks_mapped, 0u);
   EXPECT_GT(*plain.filtered.picksHeldPercent(), 80.0);
+  EXPECT_GT(plain.filtered.aimed_known, 0u);
+  EXPECT_GT(*plain.filtered.aimedHeldPercent(), 80.0);
   EXPECT_NE(conservativeCurveSvg(summary).find("<polyline"), std::string::npos);
   EXPECT_NE(conservativeSummaryMarkdown(summary).find("| All | K 3 |"), std::string::npos);
+}
+
+// On the CAD mesh itself every region is the CAD region: by the ICR
+// theorem any pick holds, the recommended contacts' grasp among them.
+TEST(ExperimentConservative, TheAimedGraspOnThePerfectReconstructionAlwaysHolds) {
+  const TriangleMesh cad = test::ellipsoid(4);
+  ExperimentConfig config;
+  config.finger_counts = {4};
+  config.grasps_per_set = 8;
+  const DatasetExperiment experiment({"perfect", &cad, &cad, &cad}, config);
+  std::size_t aimed = 0;
+  for (const GraspRecord& r : experiment.run(0, experiment.itemCount())) {
+    if (!r.evaluated) continue;
+    for (const MeshOutcome* m : {&r.raw, &r.filtered}) {
+      ASSERT_TRUE(m->picks.has_value());
+      EXPECT_EQ(m->picks->held, m->picks->mapped);
+      if (!m->picks->aimed_held) continue;
+      EXPECT_TRUE(*m->picks->aimed_held) << r.index;
+      ++aimed;
+    }
+  }
+  EXPECT_GT(aimed, 4u);
 }
 
 TEST(ExperimentConservative, MeshesWithoutSigmasAreRefusedClearly) {

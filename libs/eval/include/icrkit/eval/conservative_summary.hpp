@@ -4,8 +4,9 @@
 /// from grasp records: per growth setting and mesh type, the median Int and
 /// FP (as Table I), how many regions ended empty, how many recommended
 /// contacts lie inside the CAD region, how many central points lie
-/// outside it (Q_n < 0), and how many random picks from the regions hold
-/// the task on the CAD mesh (MeshOutcome::picks). Written as conservative.{json,md,svg} (the svg: the
+/// outside it (Q_n < 0), how many random picks from the regions hold
+/// the task on the CAD mesh (MeshOutcome::picks), and how many grasps of
+/// the recommended contacts do. Written as conservative.{json,md,svg} (the svg: the
 /// Int-vs-FP curve over K).
 
 #include <icrkit/eval/experiment_records.hpp>
@@ -28,7 +29,10 @@ struct GrowthFigures {
   std::size_t grasps_with_picks = 0;   ///< grasps whose regions were all non-empty (picks drawn)
   std::size_t picks_mapped = 0;        ///< picks that mapped onto distinct CAD vertices
   std::size_t picks_held = 0;          ///< ... and hold the TWS on the CAD mesh
+  std::size_t aimed_known = 0;         ///< grasps whose record says whether their aimed grasp held (PickCheck::aimed_held)
+  std::size_t aimed_held = 0;          ///< ... and it held
   std::optional<double> picksHeldPercent() const;
+  std::optional<double> aimedHeldPercent() const;
   std::optional<double> recommendedInsidePercent() const;
   std::optional<double> centerOutsidePercent() const;
 };

@@ -38,6 +38,12 @@ struct PickCheck {
   std::size_t tried = 0;     ///< picks drawn (none when a region is empty)
   std::size_t mapped = 0;    ///< picks whose vertices all map onto distinct CAD vertices
   std::size_t held = 0;      ///< mapped picks whose CAD grasp holds the TWS
+  /// The one pick a robot would make: every region's recommended contact
+  /// (its deepest vertex), moved onto the CAD mesh the same way. Whether
+  /// that CAD grasp holds the TWS; false when a contact maps nowhere or two
+  /// map onto one CAD vertex. Unset when no picks were drawn (an empty
+  /// region) and in records written before it existed.
+  std::optional<bool> aimed_held;
 };
 
 /// The regions of one mesh grown conservatively (icr/conservative_growth.hpp)
