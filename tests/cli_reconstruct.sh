@@ -100,6 +100,8 @@ expect_input_error "--board-origin" "$ICRKIT" reconstruct "$work/cup/scans.rawlo
 expect_input_error "--no-registration" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad11" \
   --board-square 0.02 --no-registration
 expect_input_error "missing.rawlog" "$ICRKIT" reconstruct "$work/missing.rawlog" -o "$work/bad1"
+expect_input_error "--window-normal-angle" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad12" \
+  --window-normal-angle 0
 [ ! -e "$work/bad1" ] || fail "a failed run created its output directory"
 head -c 20000 "$work/cup/scans.rawlog" >"$work/truncated.rawlog"
 expect_input_error "truncated.rawlog" "$ICRKIT" reconstruct "$work/truncated.rawlog" -o "$work/bad2"

@@ -54,6 +54,7 @@ cmp -s "$work/s/grasps.jsonl" "$work/m/grasps.jsonl" || fail "merged shards give
 expect_input_error "noise" "$ICRKIT" sensitivity --object cup --noise 0,-0.5 -o "$work/bad"
 expect_input_error "preselection" "$ICRKIT" sensitivity --object cup --preselection median -o "$work/bad"
 expect_input_error "object" "$ICRKIT" sensitivity --object teapot -o "$work/bad"
+expect_input_error "--window-normal-angle" "$ICRKIT" sensitivity --object cup --window-normal-angle -1 -o "$work/bad"
 expect_input_error "cad" "$ICRKIT" sensitivity -o "$work/bad"
 expect_exit 2 "$ICRKIT" smooth "$work/none.ply" -o "$work/x.ply" --preselection median
 expect_exit 2 "$ICRKIT" evaluate --cad a.ply --raw b.ply --filtered c.ply -o "$work/e" --preselection mean

@@ -112,6 +112,13 @@ d = json.load(open('$work/opt.json'))
 assert d['radius_m'] == 0.005 and d['passes'] == 3, d
 assert d['thresholds']['cardinality'] == 10 and d['thresholds']['flatness'] == 2.5, d['thresholds']
 " || fail "explicit --radius/--passes/thresholds not in the summary"
+"$ICRKIT" smooth "$plane" -o "$work/side.ply" --window-normal-angle 1.5708 --json -q >"$work/side.json" ||
+  fail "smooth --window-normal-angle failed"
+py "
+import json
+d = json.load(open('$work/side.json'))
+assert d['window_normal_angle_rad'] == 1.5708, d
+" || fail "--window-normal-angle not in the summary"
 "$ICRKIT" smooth "$plane" -o "$work/f.ply" --radius 2x --json -q >"$work/f.json" || fail "smooth --radius 2x failed"
 py "
 import json
@@ -150,6 +157,8 @@ expect_input_error "--radius.*expected metres" "$ICRKIT" smooth "$plane" -o "$wo
 expect_input_error "--passes" "$ICRKIT" smooth "$plane" -o "$work/bad.ply" --passes 0
 expect_input_error "--viewpoint" "$ICRKIT" smooth "$plane" -o "$work/bad.ply" --viewpoint 1,2
 expect_input_error "--flatness-threshold" "$ICRKIT" smooth "$plane" -o "$work/bad.ply" --flatness-threshold -1
+expect_input_error "--window-normal-angle.*> 0" "$ICRKIT" smooth "$plane" -o "$work/bad.ply" --window-normal-angle 0
+expect_input_error "--window-normal-angle.*> 0" "$ICRKIT" smooth "$plane" -o "$work/bad.ply" --window-normal-angle -1
 expect_input_error "empty.xyz.*empty" "$ICRKIT" smooth "$work/empty.xyz" -o "$work/bad.ply"
 expect_input_error "missing.xyz" "$ICRKIT" smooth "$work/missing.xyz" -o "$work/bad.ply"
 expect_input_error "bad.txt" "$ICRKIT" smooth "$plane" -o "$work/bad.txt"

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "depth_folder_options.hpp"
 #include "preselection_options.hpp"
+#include "smoothing_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
@@ -52,6 +53,7 @@ struct ReconstructOptions {
   double voxel = 0.004;
   std::string smoothing_radius = "4x";
   int passes = 1;
+  double window_normal_angle = M_PI;
   std::string preselection = "default";
   bool mesh_kept_points_only = false;
   double mesh_thinning = reconstruction::ReconstructionParameters{}.meshing.thinning_factor;
@@ -158,6 +160,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   if (radius.relative) params.smoothing.radius_factor = radius.value;
   if (options.passes < 1) throw InputError("--passes", "", "expected at least 1");
   params.smoothing.passes = options.passes;
+  params.smoothing.max_normal_angle = checkedWindowNormalAngle(options.window_normal_angle);
   params.smoothing.preselection.rule = ndt::parsePreselectionRule(options.preselection);
   params.mesh_kept_points_only = options.mesh_kept_points_only;
   if (!(std::isfinite(options.mesh_thinning) && options.mesh_thinning >= 0))
@@ -348,6 +351,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
     summary["filtered_mesh"] = meshingJson(result.filtered_meshing);
     summary["smoothing"] = {{"radius_m", result.smoothing.radius_m},
                             {"passes", result.smoothing.passes},
+                            {"window_normal_angle_rad", params.smoothing.max_normal_angle},
                             {"preselection", preselectionJson(result.smoothing.preselection)},
                             {"excluded", result.smoothing.preselection.excluded},
                             {"cardinality_threshold", result.smoothing.preselection.cardinality_threshold},
@@ -457,6 +461,7 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
                    "3D-NDT smoothing window: metres or a multiple of a single scan's median point spacing")
       ->capture_default_str();
   command->add_option("--passes", options->passes, "3D-NDT smoothing passes")->capture_default_str();
+  addWindowNormalAngleOption(*command, options->window_normal_angle);
   addPreselectionOption(*command, options->preselection, "for the filtered mesh");
   command->add_option("--mesh-thinning", options->mesh_thinning,
                       "Noise-layer thinning of the smoothed cloud before ball pivoting, cube edge in layer "

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "experiment_options.hpp"
 #include "preselection_options.hpp"
+#include "smoothing_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
@@ -36,6 +37,7 @@ struct SensitivityOptions {
   std::string noise = "0,0.25,0.5,1";
   std::string rules = "default,paper-mean,none";
   bool mesh_kept_points_only = false;
+  double window_normal_angle = M_PI;
   ExperimentOptions experiment;
 };
 
@@ -63,12 +65,13 @@ std::vector<std::string> parseRules(const std::string& text) {
 // The raw and filtered meshes of one noisy sample, with one copy of the
 // filtered mesh per rule (the smoothing is the same; only the flags differ).
 eval::SensitivityMeshes buildMeshes(const PointCloud& noisy, const std::vector<std::string>& rules,
-                                    bool kept_points_only) {
+                                    bool kept_points_only, double window_normal_angle) {
   PointCloud cloud = noisy;
   cloud.normals.clear();  // the raw mesh gets estimated normals, as a scan would
   ndt::estimateNormals(cloud);
   reconstruction::RawAndFilteredParameters params;
   params.meshing = reconstruction::ReconstructionParameters{}.meshing;
+  params.smoothing.max_normal_angle = window_normal_angle;
   eval::SensitivityMeshes out;
   if (!kept_points_only) {
     reconstruction::RawAndFilteredMeshes meshes = reconstruction::meshRawAndFiltered(cloud, params);
@@ -125,9 +128,10 @@ nlohmann::json sensitivity(const SensitivityOptions& o, CommandContext& context)
 
   const std::vector<std::string> rules = params.rules;
   const bool kept_only = o.mesh_kept_points_only;
+  const double window_angle = checkedWindowNormalAngle(o.window_normal_angle);
   const eval::SensitivityResult result = eval::runSensitivityStudy(
       cad, object, params,
-      [&](const PointCloud& noisy, double, double) { return buildMeshes(noisy, rules, kept_only); }, shard,
+      [&](const PointCloud& noisy, double, double) { return buildMeshes(noisy, rules, kept_only, window_angle); }, shard,
       context.progress());
 
   nlohmann::json levels = nlohmann::json::array();
@@ -165,6 +169,8 @@ nlohmann::json sensitivity(const SensitivityOptions& o, CommandContext& context)
                        {"seed", params.seed},
                        {"mesh_kept_points_only", kept_only}}},
                      {"datasets", datasets}};
+  // Only when asked for: runs without it keep their run.json.
+  if (window_angle < M_PI) run["sensitivity"]["window_normal_angle_rad"] = window_angle;
   eval::ExperimentOutputs outputs;
   outputs.dataset_order = order;
   outputs.finger_counts = params.experiment.finger_counts;
@@ -205,6 +211,7 @@ void addSensitivityCommand(CLI::App& app, CommandRunner& runner) {
       ->capture_default_str();
   command->add_flag("--mesh-kept-points-only", o->mesh_kept_points_only,
                     "Mesh each rule's smoothed cloud without its excluded points (the other reading of the paper)");
+  addWindowNormalAngleOption(*command, o->window_normal_angle);
   o->experiment.addTo(*command, false);
   command->add_option("-o,--output", o->output, "Output folder")->required();
   command->callback(

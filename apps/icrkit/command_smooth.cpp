@@ -5,6 +5,7 @@
 #include "argument_parsing.hpp"
 #include "commands.hpp"
 #include "preselection_options.hpp"
+#include "smoothing_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/file_format.hpp>
@@ -31,6 +32,7 @@ struct SmoothOptions {
   std::optional<double> cardinality_threshold;
   std::optional<double> flatness_threshold;
   std::string viewpoint;
+  double window_normal_angle = M_PI;
 };
 
 void checkThreshold(const char* name, const std::optional<double>& value) {
@@ -57,6 +59,7 @@ ndt::SmoothingParameters parameters(const SmoothOptions& options) {
   params.preselection.cardinality_threshold = options.cardinality_threshold;
   params.preselection.flatness_threshold = options.flatness_threshold;
   if (!options.viewpoint.empty()) params.viewpoint = parsePoint("--viewpoint", options.viewpoint);
+  params.max_normal_angle = checkedWindowNormalAngle(options.window_normal_angle);
   return params;
 }
 
@@ -94,6 +97,7 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
       // null when --radius was given in metres: the spacing is then not measured
       {"median_spacing_m", s.median_spacing_m > 0 ? nlohmann::json(s.median_spacing_m) : nlohmann::json(nullptr)},
       {"passes", s.passes},
+      {"window_normal_angle_rad", params.max_normal_angle},
       {"small_windows", s.small_windows},
       {"mean_cardinality", s.preselection.mean_cardinality},
       {"mean_flatness", s.preselection.mean_flatness},
@@ -140,6 +144,7 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--viewpoint", options->viewpoint,
                       "Sensor position x,y,z (metres): normals point towards it (default: outwards from the "
                       "centroid, made consistent over neighbours)");
+  addWindowNormalAngleOption(*command, options->window_normal_angle);
   command->callback(
       [&runner, options] { runner = [options](CommandContext& context) { context.emit(smooth(*options, context)); }; });
 }

@@ -41,6 +41,7 @@ def smooth(
     passes: int = ...,
     preselection: str = ...,
     viewpoint: Optional[Sequence[float]] = ...,
+    window_normal_angle: float = ...,
 ) -> PointCloud: ...
 def ball_pivoting(
     points: Union[Points, PointCloud], normals: Optional[Points] = ..., radii: Optional[Sequence[float]] = ...

@@ -149,12 +149,14 @@ void bindAlgorithms(py::module_& m) {
   m.def(
       "smooth",
       [](const py::handle& points, const py::handle& normals, std::optional<double> radius, double radius_factor,
-         int passes, const std::string& preselection, std::optional<std::vector<double>> viewpoint) {
+         int passes, const std::string& preselection, std::optional<std::vector<double>> viewpoint,
+         double window_normal_angle) {
         PointCloud cloud = asCloud(points, normals);
         ndt::SmoothingParameters params;
         params.radius = radius.value_or(0.0);
         params.radius_factor = radius_factor;
         params.passes = passes;
+        params.max_normal_angle = window_normal_angle;
         params.preselection.rule = ndt::parsePreselectionRule(preselection, "preselection");
         if (viewpoint) {
           if (viewpoint->size() != 3) throw py::value_error("viewpoint: expected (x, y, z)");
@@ -168,9 +170,11 @@ void bindAlgorithms(py::module_& m) {
       },
       py::arg("points"), py::arg("normals") = py::none(), py::arg("radius") = py::none(),
       py::arg("radius_factor") = 4.0, py::arg("passes") = 1, py::arg("preselection") = "default",
-      py::arg("viewpoint") = py::none(),
+      py::arg("viewpoint") = py::none(), py::arg("window_normal_angle") = M_PI,
       "The 3D-NDT smoothing layer (Krug et al., Algorithm 1) and preselection. `points`: (N, 3) float64 metres or a "
-      "PointCloud. `radius` in metres (None: radius_factor x the median spacing). Returns a new PointCloud with the "
+      "PointCloud. `radius` in metres (None: radius_factor x the median spacing). `window_normal_angle` (radians, "
+      "needs normals): windows keep only points whose normal is within it of their centre's (one-sided windows for "
+      "thin walls; pi: the paper's window). Returns a new PointCloud with the "
       "smoothed points, v3 normals and the attributes cardinality, flatness, displacement (m), normal_sigma (rad), "
       "position_sigma (m) and excluded (unless preselection='none'). docs/smoothing.md.");
 

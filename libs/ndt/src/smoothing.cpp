@@ -39,7 +39,24 @@ void validate(const PointCloud& cloud, const SmoothingParameters& params) {
   if (params.radius == 0 && !(params.radius_factor > 0 && std::isfinite(params.radius_factor)))
     throw InputError("--radius", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
   if (params.passes < 1) throw InputError("--passes", "", "at least one pass, got " + std::to_string(params.passes));
+  if (!(params.max_normal_angle > 0))
+    throw InputError("SmoothingParameters::max_normal_angle", "",
+                     "expected an angle > 0 radians, got " + std::to_string(params.max_normal_angle));
 }
+
+// The input normals and the cosine a window's points must reach against
+// the query point's, or nothing when windows are two-sided.
+struct WindowSide {
+  const std::vector<Eigen::Vector3d>* normals = nullptr;
+  double min_cosine = -1.0;
+
+  bool keeps(std::size_t i, std::size_t j) const {
+    const Eigen::Vector3d& a = (*normals)[i];
+    const Eigen::Vector3d& b = (*normals)[j];
+    const double norms = a.norm() * b.norm();
+    return !(norms > 0) || a.dot(b) >= min_cosine * norms;
+  }
+};
 
 struct PassOutput {
   std::vector<Eigen::Vector3d> positions;
@@ -83,7 +100,8 @@ void keepNearest(const std::vector<Eigen::Vector3d>& input, const KdTree& tree, 
 
 // One Jacobi pass: every window is taken from `input`.
 PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radius, double flatness_floor,
-                         std::size_t graph_slots, const ProgressCallback& progress, const std::string& stage) {
+                         const WindowSide& side, std::size_t graph_slots, const ProgressCallback& progress,
+                         const std::string& stage) {
   const std::size_t n = input.size();
   const KdTree tree(input);
   PassOutput out;
@@ -104,6 +122,9 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
       // a given cloud, so the sums below have the same bits on every run and
       // thread count.
       tree.indicesWithinRadiusInTreeOrder(p, radius, window);
+      if (side.normals)
+        window.erase(std::remove_if(window.begin(), window.end(), [&](std::size_t j) { return !side.keeps(i, j); }),
+                     window.end());
       const std::size_t count = window.size();
       out.cardinality[i] = static_cast<int>(count);
       if (graph_slots > 0) keepNearest(input, tree, i, window, out.graph);
@@ -161,9 +182,18 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
   // graph costs no second k-d tree and no k-NN queries.
   const std::size_t graph_slots = params.viewpoint ? 0 : NormalOrientationParameters{}.neighbours;
   NeighbourGraph graph;
+  // The sides come from the input normals in every pass: later passes'
+  // v3 estimates are made from one-sided windows already.
+  const std::vector<Eigen::Vector3d> input_normals =
+      params.max_normal_angle < M_PI && cloud.hasNormals() ? cloud.normals : std::vector<Eigen::Vector3d>{};
+  WindowSide side;
+  if (!input_normals.empty()) {
+    side.normals = &input_normals;
+    side.min_cosine = std::cos(params.max_normal_angle);
+  }
   for (int pass = 0; pass < params.passes; ++pass) {
     const bool last = pass + 1 == params.passes;
-    PassOutput out = smoothingPass(cloud.positions, summary.radius_m, params.flatness_floor, last ? graph_slots : 0,
+    PassOutput out = smoothingPass(cloud.positions, summary.radius_m, params.flatness_floor, side, last ? graph_slots : 0,
                                    progress,
                                    "smoothing pass " + std::to_string(pass + 1) + "/" + std::to_string(params.passes));
     if (pass == 0) {

@@ -88,6 +88,52 @@ TEST(Smoothing, LeavesAnExactPlaneOnThePlane) {
   }
 }
 
+// Both sides of a wall thinner than the window (two noise-free planes
+// 1.5 mm apart, normals facing away from each other, a 4 mm window): the
+// paper's window pulls each side nearly half way to the other; a one-sided
+// window keeps each side on its own plane.
+TEST(Smoothing, OneSidedWindowsKeepTheTwoSidesOfAThinWallApart) {
+  const SyntheticCloud top = test::makePlane(40, kSpacing, 0.0, 1);
+  PointCloud wall;
+  for (const Eigen::Vector3d& p : top.cloud.positions) {
+    wall.positions.push_back(p);
+    wall.normals.push_back(Eigen::Vector3d::UnitZ());
+  }
+  const double thickness = 1.5e-3;
+  for (const Eigen::Vector3d& p : top.cloud.positions) {
+    wall.positions.push_back(p - thickness * Eigen::Vector3d::UnitZ());
+    wall.normals.push_back(-Eigen::Vector3d::UnitZ());
+  }
+  const std::size_t half = top.cloud.size();
+  SmoothingParameters params;
+  params.radius = 4e-3;
+  params.preselection.rule = PreselectionRule::None;
+  PointCloud two_sided = wall;
+  smoothPointCloud(two_sided, params);
+  PointCloud one_sided = wall;
+  params.max_normal_angle = M_PI / 2;
+  smoothPointCloud(one_sided, params);
+  // A point in the middle of the top side, away from the sheet's border:
+  // its two-sided window holds the bottom points within sqrt(r^2 - t^2) of
+  // it, (3.71 / 4)^2 as many as the top ones, so the fit's mean and the
+  // point land at -t x 0.86 / 1.86.
+  const Eigen::Vector2d centre = Eigen::Vector2d::Constant(39 * kSpacing / 2);
+  std::size_t middle = 0;
+  for (std::size_t i = 0; i < half; ++i)
+    if ((top.cloud.positions[i].head<2>() - centre).norm() < (top.cloud.positions[middle].head<2>() - centre).norm())
+      middle = i;
+  EXPECT_NEAR(two_sided.positions[middle].z(), -thickness * 0.86 / 1.86, 1e-4);
+  EXPECT_NEAR(one_sided.positions[middle].z(), 0.0, 1e-12);
+  EXPECT_NEAR(one_sided.positions[middle + half].z(), -thickness, 1e-12);
+  for (std::size_t i = 0; i < wall.size(); ++i)
+    ASSERT_NEAR(one_sided.positions[i].z(), wall.positions[i].z(), 1e-12) << "point " << i;
+  // Without input normals there are no sides: the paper's window.
+  PointCloud bare = wall;
+  bare.normals.clear();
+  smoothPointCloud(bare, params);
+  EXPECT_EQ(bare.positions[middle].z(), two_sided.positions[middle].z());
+}
+
 struct EdgeFaceRates {
   double edge = 0, face = 0;
   SmoothingSummary summary;
@@ -477,6 +523,11 @@ TEST(Smoothing, BadInputThrowsInputError) {
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
   params = {};
   params.radius_factor = 0.0;
+  EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
+  params = {};
+  params.max_normal_angle = 0.0;
+  EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
+  params.max_normal_angle = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
   // All points in one place: no spacing to derive a radius from.
   PointCloud coincident;

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cmath>
 #include <optional>
 
 namespace icrkit::ndt {
@@ -44,6 +45,14 @@ struct SmoothingParameters {
   /// windows (three points, quantised depth) would otherwise get flatness
   /// ~1e6 and drag the mean threshold above every other point.
   double flatness_floor = 1e-4;
+  /// One-sided windows: when the cloud comes with normals, a window keeps
+  /// only the points whose input normal is within this angle (radians) of
+  /// the query point's, so a wall thinner than the window (a cup's, 2-3 mm
+  /// against a 6 mm window) is not pulled together with its other side,
+  /// whose normals face the other way. A point without a normal (zero)
+  /// keeps and is kept by every window. >= pi (default): every point of the
+  /// radius, the paper's window.
+  double max_normal_angle = M_PI;
 };
 
 struct SmoothingSummary {
