@@ -1,8 +1,9 @@
 #include <icrkit/core/mesh_topology.hpp>
 
+#include <icrkit/core/disjoint_sets.hpp>
+
 #include <algorithm>
 #include <cstdint>
-#include <numeric>
 #include <utility>
 
 namespace icrkit {
@@ -32,13 +33,6 @@ std::vector<FaceEdge> sortedFaceEdges(const TriangleMesh& mesh) {
   return edges;
 }
 
-int findRoot(std::vector<int>& parent, int x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
 
 }  // namespace
 
@@ -186,22 +180,16 @@ std::vector<std::vector<int>> boundaryLoops(const TriangleMesh& mesh) {
 
 MeshComponents meshComponents(const TriangleMesh& mesh) {
   const std::size_t n = mesh.vertexCount();
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const Triangle& f : mesh.faces) {
-    const int r0 = findRoot(parent, f[0]);
-    for (int k = 1; k < 3; ++k) {
-      const int r = findRoot(parent, f[k]);
-      if (r != r0) parent[r] = r0;
-    }
-  }
+  DisjointSets sets(n);
+  for (const Triangle& f : mesh.faces)
+    for (int k = 1; k < 3; ++k) sets.unite(static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[k]));
   MeshComponents result;
   std::vector<int> label(n, -1);
   result.face_component.resize(mesh.faces.size());
   // Labels follow the order in which faces first reach a component, which
   // keeps them stable for a given file.
   for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
-    const int root = findRoot(parent, mesh.faces[i][0]);
+    const std::uint32_t root = sets.find(static_cast<std::uint32_t>(mesh.faces[i][0]));
     if (label[root] < 0) label[root] = static_cast<int>(result.count++);
     result.face_component[i] = label[root];
   }

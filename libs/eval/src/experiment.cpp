@@ -100,6 +100,21 @@ icr::ContactModel ExperimentConfig::contactModel() const {
   return model;
 }
 
+namespace {
+
+// The CAD vertex the region's recommended contact maps onto (eq. (3), as
+// its region's vertices do: `mapped` follows the region's vertex order);
+// -1 for an empty region or a contact that maps nowhere.
+int recommendedImage(const icr::ContactRegion& region, const std::vector<int>& mapped) {
+  const int vertex = region.recommended.vertex;
+  const auto at = std::lower_bound(region.vertices.begin(), region.vertices.end(), vertex);
+  if (vertex < 0 || at == region.vertices.end() || *at != vertex) return -1;
+  const auto k = static_cast<std::size_t>(at - region.vertices.begin());
+  return k < mapped.size() ? mapped[k] : -1;
+}
+
+}  // namespace
+
 struct DatasetExperiment::Impl {
   DatasetMeshes meshes;
   ExperimentConfig config;
@@ -263,15 +278,8 @@ RegionComparison DatasetExperiment::Impl::compare(const std::vector<int>& cad_re
   if (mapped_out) *mapped_out = intersection.mapped_vertices;
   RegionComparison c;
   c.vertices = scan_region.vertices.size();
-  // The recommended contact maps onto the CAD mesh as its region's vertices
-  // do (eq. (3)); mapped_vertices follows the region's order.
-  c.recommended_inside = false;
-  const auto at = std::lower_bound(scan_region.vertices.begin(), scan_region.vertices.end(), scan_region.recommended.vertex);
-  if (scan_region.recommended.vertex >= 0 && at != scan_region.vertices.end() && *at == scan_region.recommended.vertex) {
-    const std::size_t k = static_cast<std::size_t>(at - scan_region.vertices.begin());
-    const int image = k < intersection.mapped_vertices.size() ? intersection.mapped_vertices[k] : -1;
-    c.recommended_inside = image >= 0 && std::binary_search(cad_region.begin(), cad_region.end(), image);
-  }
+  const int image = recommendedImage(scan_region, intersection.mapped_vertices);
+  c.recommended_inside = image >= 0 && std::binary_search(cad_region.begin(), cad_region.end(), image);
   c.area_m2 = intersection.scan_region_area_m2;
   c.intersection_area_m2 = intersection.intersection_area_m2;
   c.false_positive_area_m2 = intersection.false_positive_area_m2;
@@ -310,13 +318,7 @@ PickCheck DatasetExperiment::Impl::checkPicks(const std::vector<icr::ContactRegi
     if (checkTask(cad_contacts, tws_radius, cad_object).fulfilled) ++check.held;
   }
   std::vector<int> aimed;
-  for (std::size_t n = 0; n < regions.size(); ++n) {
-    const std::vector<int>& vertices = regions[n].vertices;
-    const auto at = std::lower_bound(vertices.begin(), vertices.end(), regions[n].recommended.vertex);
-    const auto k = static_cast<std::size_t>(at - vertices.begin());
-    const bool known = at != vertices.end() && *at == regions[n].recommended.vertex && k < mapped[n].size();
-    aimed.push_back(known ? mapped[n][k] : -1);
-  }
+  for (std::size_t n = 0; n < regions.size(); ++n) aimed.push_back(recommendedImage(regions[n], mapped[n]));
   const std::set<int> distinct(aimed.begin(), aimed.end());
   check.aimed_held = distinct.count(-1) == 0 && distinct.size() == aimed.size() &&
                      checkTask(aimed, tws_radius, cad_object).fulfilled;

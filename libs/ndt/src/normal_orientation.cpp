@@ -1,3 +1,4 @@
+#include <icrkit/core/disjoint_sets.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/ndt/normal_orientation.hpp>
@@ -83,29 +84,6 @@ void sortByKey(std::vector<Edge>& edges) {
     edges.swap(buffer);
   }
 }
-
-class DisjointSets {
-public:
-  explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];  // path halving
-      x = parent_[x];
-    }
-    return x;
-  }
-  bool unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    if (a > b) std::swap(a, b);  // the smaller index becomes the root: deterministic
-    parent_[b] = a;
-    return true;
-  }
-
-private:
-  std::vector<std::uint32_t> parent_;
-};
 
 }  // namespace
 

@@ -44,17 +44,16 @@ void validate(const PointCloud& cloud, const SmoothingParameters& params) {
                      "expected an angle > 0 radians, got " + std::to_string(params.max_normal_angle));
 }
 
-// The input normals and the cosine a window's points must reach against
-// the query point's, or nothing when windows are two-sided.
+// The input normals (unit, or zero for none) and the cosine a window's
+// points must reach against the query point's; no normals: two-sided.
 struct WindowSide {
-  const std::vector<Eigen::Vector3d>* normals = nullptr;
+  std::vector<Eigen::Vector3d> normals;
   double min_cosine = -1.0;
 
   bool keeps(std::size_t i, std::size_t j) const {
-    const Eigen::Vector3d& a = (*normals)[i];
-    const Eigen::Vector3d& b = (*normals)[j];
-    const double norms = a.norm() * b.norm();
-    return !(norms > 0) || a.dot(b) >= min_cosine * norms;
+    const Eigen::Vector3d& a = normals[i];
+    const Eigen::Vector3d& b = normals[j];
+    return a.dot(b) >= min_cosine || a.squaredNorm() == 0.0 || b.squaredNorm() == 0.0;
   }
 };
 
@@ -122,7 +121,7 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
       // a given cloud, so the sums below have the same bits on every run and
       // thread count.
       tree.indicesWithinRadiusInTreeOrder(p, radius, window);
-      if (side.normals)
+      if (!side.normals.empty())
         window.erase(std::remove_if(window.begin(), window.end(), [&](std::size_t j) { return !side.keeps(i, j); }),
                      window.end());
       const std::size_t count = window.size();
@@ -184,12 +183,12 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
   NeighbourGraph graph;
   // The sides come from the input normals in every pass: later passes'
   // v3 estimates are made from one-sided windows already.
-  const std::vector<Eigen::Vector3d> input_normals =
-      params.max_normal_angle < M_PI && cloud.hasNormals() ? cloud.normals : std::vector<Eigen::Vector3d>{};
   WindowSide side;
-  if (!input_normals.empty()) {
-    side.normals = &input_normals;
+  if (params.max_normal_angle < M_PI && cloud.hasNormals()) {
     side.min_cosine = std::cos(params.max_normal_angle);
+    side.normals.reserve(n);
+    for (const Eigen::Vector3d& normal : cloud.normals)
+      side.normals.push_back(normal.squaredNorm() > 0 ? Eigen::Vector3d(normal.normalized()) : Eigen::Vector3d::Zero());
   }
   for (int pass = 0; pass < params.passes; ++pass) {
     const bool last = pass + 1 == params.passes;

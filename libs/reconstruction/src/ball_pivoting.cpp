@@ -1,5 +1,6 @@
 #include <icrkit/reconstruction/ball_pivoting.hpp>
 
+#include <icrkit/core/disjoint_sets.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
@@ -386,18 +387,13 @@ private:
   // shared points, as components are counted) standing for the piece; -1
   // for a removed face.
   std::vector<int> facePieces() const {
-    std::vector<int> parent(p_.size());
-    for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
-    auto root = [&](int v) {
-      while (parent[v] != v) v = parent[v] = parent[parent[v]];
-      return v;
-    };
+    DisjointSets sets(p_.size());
     for (const Triangle& f : faces_)
       if (f[0] >= 0)
-        for (int k = 1; k < 3; ++k) parent[root(f[k])] = root(f[0]);
+        for (int k = 1; k < 3; ++k) sets.unite(static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[k]));
     std::vector<int> piece(faces_.size(), -1);
     for (std::size_t face = 0; face < faces_.size(); ++face)
-      if (faces_[face][0] >= 0) piece[face] = root(faces_[face][0]);
+      if (faces_[face][0] >= 0) piece[face] = static_cast<int>(sets.find(static_cast<std::uint32_t>(faces_[face][0])));
     return piece;
   }
 
@@ -405,20 +401,16 @@ private:
   // touches the surface at one point is a piece of its own) and sums their
   // areas.
   void labelPieces() {
-    std::vector<int> parent(faces_.size());
-    for (std::size_t f = 0; f < parent.size(); ++f) parent[f] = static_cast<int>(f);
-    auto root = [&](int f) {
-      while (parent[f] != f) f = parent[f] = parent[parent[f]];
-      return f;
-    };
+    DisjointSets sets(faces_.size());
     for (const Edge& edge : edges_)
-      if (edge.faces[0] >= 0 && edge.faces[1] >= 0) parent[root(edge.faces[0])] = root(edge.faces[1]);
+      if (edge.faces[0] >= 0 && edge.faces[1] >= 0)
+        sets.unite(static_cast<std::uint32_t>(edge.faces[0]), static_cast<std::uint32_t>(edge.faces[1]));
     face_piece_.assign(faces_.size(), -1);
     piece_area_.assign(faces_.size(), 0.0);
     for (std::size_t face = 0; face < faces_.size(); ++face) {
       const Triangle& f = faces_[face];
       if (f[0] < 0) continue;
-      face_piece_[face] = root(static_cast<int>(face));
+      face_piece_[face] = static_cast<int>(sets.find(static_cast<std::uint32_t>(face)));
       piece_area_[face_piece_[face]] += triangleArea(f[0], f[1], f[2]);
     }
   }
