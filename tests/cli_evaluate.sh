@@ -40,6 +40,25 @@ done
 expect_exit 0 "$icrkit" --threads 1 evaluate "${args[@]}" -o "$work/one_thread" --quiet
 cmp -s "$work/full/grasps.jsonl" "$work/one_thread/grasps.jsonl" || fail "one thread changed the records"
 
+# The patch-contact study beside the plain one: its rows in conservative.md,
+# its config in run.json, the plain records unchanged.
+expect_exit 0 "$icrkit" evaluate "${args[@]}" --patch-radius 0.0012 -o "$work/patch" --quiet
+grep -q "| toy | patch 1.2 mm |" "$work/patch/conservative.md" || fail "evaluate --patch-radius wrote no patch row"
+py "
+import json
+run = json.load(open('$work/patch/run.json'))
+assert run['config']['patch']['radius_m'] == 0.0012, run['config']
+full = [json.loads(l) for l in open('$work/full/grasps.jsonl')]
+patch = [json.loads(l) for l in open('$work/patch/grasps.jsonl')]
+assert [('patch' in r) for r in patch] == [r['evaluated'] for r in patch], 'patch study on other grasps than the evaluated'
+for r in patch: r.pop('patch', None)
+assert patch == full, 'the patch study changed the plain records'
+" || fail "evaluate --patch-radius: records or run.json wrong"
+for bad in 0 -0.001 nan; do
+  expect_input_error "patch-radius" "$icrkit" evaluate "${args[@]}" --patch-radius "$bad" -o "$work/bad_patch"
+  [ ! -e "$work/bad_patch" ] || fail "a failed evaluate --patch-radius $bad left output behind"
+done
+
 # Bad input: exit 2, one line naming the problem, nothing written.
 expect_input_error "missing.ply" "$icrkit" evaluate --cad "$work/missing.ply" --raw "$work/raw.ply" \
   --filtered "$work/filtered.ply" -o "$work/bad1"

@@ -65,6 +65,11 @@ void ExperimentOptions::addTo(CLI::App& command, bool with_preselection) {
           "comma-separated list (a curve), beside the plain ones: conservative.{json,md,svg}. The meshes need "
           "the normal_sigma and position_sigma vertex attributes. Write --conservative=K before a positional")
       ->expected(0, 1);
+  command.add_option_function<double>(
+      "--patch-radius", [this](const double& value) { patch_radius = value; },
+      "Also run every evaluated grasp with the reference ICR library's multi-point (patch) contacts of this "
+      "radius (metres) on all three meshes: its own task (alpha x the CAD patch epsilon) and CAD regions, rows "
+      "'patch' in conservative.{json,md}. Costs a patch hull per mesh and grasp (seconds on dense meshes)");
 }
 
 eval::Shard ExperimentOptions::parsedShard() const {
@@ -119,6 +124,12 @@ eval::ExperimentConfig ExperimentOptions::config() const {
       config.conservative_sigmas.push_back(k);
     }
   }
+  if (patch_radius) {
+    if (!(*patch_radius > 0) || !std::isfinite(*patch_radius))
+      throw InputError("--patch-radius", "", "expected a radius > 0 in metres, got " + std::to_string(*patch_radius));
+    config.patch = icr::PatchParameters{};
+    config.patch->radius_m = *patch_radius;
+  }
   if (align != "none" && align != "icp") throw InputError("--align", "", "expected none or icp, got '" + align + "'");
   try {
     config.validate();
@@ -143,7 +154,7 @@ nlohmann::json ExperimentOptions::applyPreselection(TriangleMesh& filtered, cons
 }
 
 nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {
-  return {{"finger_counts", config.finger_counts},
+  nlohmann::json json = {{"finger_counts", config.finger_counts},
           {"grasps_per_set", config.grasps_per_set},
           {"seed", config.seed},
           {"contact_model", contactModelJson(config.contactModel())},
@@ -157,6 +168,9 @@ nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {
           {"preselection", config.preselection},
           {"conservative_sigmas", config.conservative_sigmas},
           {"wrench_frame", "CAD mesh centroid, lambda = largest CAD vertex distance from it"}};
+  // Only when asked for, so that run.json of other runs keeps its form.
+  if (config.patch) json["patch"] = {{"radius_m", config.patch->radius_m}, {"filter_border", config.patch->filter_border}};
+  return json;
 }
 
 eval::ExperimentConfig experimentConfigFromJson(const nlohmann::json& config) {
@@ -180,6 +194,11 @@ eval::ExperimentConfig experimentConfigFromJson(const nlohmann::json& config) {
   out.preselection = config.value("preselection", out.preselection);
   if (config.contains("conservative_sigmas"))
     out.conservative_sigmas = config.at("conservative_sigmas").get<std::vector<double>>();
+  if (config.contains("patch")) {
+    out.patch = icr::PatchParameters{};
+    out.patch->radius_m = config.at("patch").value("radius_m", out.patch->radius_m);
+    out.patch->filter_border = config.at("patch").value("filter_border", out.patch->filter_border);
+  }
   return out;
 }
 

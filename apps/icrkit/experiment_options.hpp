@@ -38,6 +38,8 @@ struct ExperimentOptions {
   std::string align = "none";
   /// --conservative [K,K,...]: "" for a bare flag (K = 1), unset without it.
   std::optional<std::string> conservative;
+  /// --patch-radius M: the patch-contact study beside the plain one; unset without it.
+  std::optional<double> patch_radius;
   int renders = 1;
 
   /// `with_preselection` false: the command has its own --preselection.

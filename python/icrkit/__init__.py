@@ -25,19 +25,21 @@ from ._icrkit import (  # noqa: F401
 
 
 def evaluate(cad, raw, filtered, name="dataset", grasps=200, fingers=(4, 5), seed=1, alpha=0.8, mu=0.8, edges=8,
-             preselection=True, align=None, conservative=None, picks=20):
+             preselection=True, align=None, conservative=None, picks=20, patch_radius=None):
     """The paper's experiment (`icrkit evaluate`) on one object.
 
     `cad`, `raw`, `filtered`: TriangleMesh with unit vertex normals, in one
     frame (metres), or align="icp" to align raw and filtered to the CAD mesh
     first. `preselection`: honour the filtered mesh's `excluded` attribute.
     `conservative`: a list of K for uncertainty-aware growth beside the plain
-    one. Returns a dict: `records` (one dict per grasp, the fields of
+    one. `patch_radius` (metres): also run every evaluated grasp with the
+    reference library's patch contacts on all three meshes (records'
+    `patch`, growth rows "patch"). Returns a dict: `records` (one dict per grasp, the fields of
     grasps.jsonl), `table1`, `eligibility` and `growth` (as table1.json,
     eligibility.json and conservative.json). docs/evaluation.md."""
     lines, table, eligibility, growth = _evaluate(
         cad, raw, filtered, name, grasps, list(fingers), seed, alpha, mu, edges, preselection, align or "none",
-        list(conservative or []), picks)
+        list(conservative or []), picks, patch_radius)
     return {
         "records": [_json.loads(line) for line in lines],
         "table1": _json.loads(table),

@@ -98,4 +98,5 @@ def evaluate(
     align: Optional[str] = ...,
     conservative: Optional[Sequence[float]] = ...,
     picks: int = ...,
+    patch_radius: Optional[float] = ...,
 ) -> Dict[str, Any]: ...

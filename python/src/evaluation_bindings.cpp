@@ -24,7 +24,7 @@ void bindEvaluation(py::module_& m) {
       [](const TriangleMesh& cad, TriangleMesh raw, TriangleMesh filtered, const std::string& name,
          std::size_t grasps, const std::vector<std::size_t>& fingers, std::uint64_t seed, double alpha, double mu,
          int edges, bool preselection, const std::string& align, const std::vector<double>& conservative,
-         std::size_t picks) {
+         std::size_t picks, std::optional<double> patch_radius) {
         eval::ExperimentConfig config;
         config.grasps_per_set = grasps;
         config.finger_counts = fingers;
@@ -35,6 +35,10 @@ void bindEvaluation(py::module_& m) {
         config.preselection = preselection;
         config.conservative_sigmas = conservative;
         config.picks_per_grasp = picks;
+        if (patch_radius) {
+          config.patch = icr::PatchParameters{};
+          config.patch->radius_m = *patch_radius;
+        }
         if (align != "none" && align != "icp") throw py::value_error("align: expected 'none' or 'icp', got '" + align + "'");
         py::gil_scoped_release release;
         if (align == "icp")
@@ -50,7 +54,7 @@ void bindEvaluation(py::module_& m) {
       },
       py::arg("cad"), py::arg("raw"), py::arg("filtered"), py::arg("name"), py::arg("grasps"), py::arg("fingers"),
       py::arg("seed"), py::arg("alpha"), py::arg("mu"), py::arg("edges"), py::arg("preselection"), py::arg("align"),
-      py::arg("conservative"), py::arg("picks"));
+      py::arg("conservative"), py::arg("picks"), py::arg("patch_radius"));
 }
 
 }  // namespace icrkit::python

@@ -78,6 +78,8 @@ def test_bad_arrays_and_files_give_clear_exceptions():
         icrkit.independent_contact_regions(mesh, contacts, conservative=1.0)
     with pytest.raises(ValueError, match="radius"):
         icrkit.independent_contact_regions(mesh, contacts, patch_radius=0.0)
+    with pytest.raises(ValueError, match="radius"):
+        icrkit.evaluate(mesh, mesh, mesh, grasps=1, fingers=(4,), patch_radius=-0.001)
     with pytest.raises(ValueError, match="expected frictional, frictionless or soft"):
         icrkit.independent_contact_regions(mesh, contacts, model="sticky")
     # Fixed bounds work on a mesh without sigmas, and shrink the regions.
@@ -197,9 +199,10 @@ def test_evaluate_gives_the_commands_records_and_table():
         noisy_path = os.path.join(tmp, "noisy.ply")
         icrkit.write_mesh(noisy_path, noisy)
         py = icrkit.evaluate(cad, icrkit.read_mesh(noisy_path), icrkit.read_mesh(noisy_path), name="Fish_5k",
-                             grasps=4, fingers=(4,), conservative=[0.5])
+                             grasps=4, fingers=(4,), conservative=[0.5], patch_radius=0.004)
         subprocess.run([ICRKIT, "evaluate", "--cad", model, "--raw", noisy_path, "--filtered", noisy_path,
-                        "--grasps", "4", "--fingers", "4", "--conservative=0.5", "--renders", "0", "-o",
+                        "--grasps", "4", "--fingers", "4", "--conservative=0.5", "--patch-radius", "0.004",
+                        "--renders", "0", "-o",
                         os.path.join(tmp, "run"), "--quiet"], check=True, capture_output=True)
         with open(os.path.join(tmp, "run", "grasps.jsonl")) as f:
             cli = [json.loads(line) for line in f if line.strip()]
@@ -209,3 +212,5 @@ def test_evaluate_gives_the_commands_records_and_table():
     assert py["table1"] == cli_table
     assert any(r["evaluated"] for r in py["records"])
     assert py["growth"]["sigmas"] == [0.5]
+    assert any(r.get("patch", {}).get("evaluated") for r in py["records"])
+    assert any(row["growth"] == "patch" for row in py["growth"]["rows"])

@@ -38,10 +38,12 @@ struct Accumulator {
     ++figures.grasps_with_picks;
     figures.picks_mapped += picks->mapped;
     figures.picks_held += picks->held;
-    if (picks->aimed_held) {
-      ++figures.aimed_known;
-      if (*picks->aimed_held) ++figures.aimed_held;
-    }
+    addAimed(picks->aimed_held);
+  }
+  void addAimed(const std::optional<bool>& held) {
+    if (!held) return;
+    ++figures.aimed_known;
+    if (*held) ++figures.aimed_held;
   }
   GrowthFigures finish() const {
     GrowthFigures f = figures;
@@ -57,13 +59,17 @@ struct RowAccumulator {
 };
 
 // Key: (pooled: the "All" row, after every dataset; dataset; setting index:
-// 0 plain, 1 + index into the K list).
+// 0 plain, 1 + index into the K list, then 1 + |K| + index into the patch radii).
 using Key = std::tuple<bool, std::string, std::size_t>;
 
-std::string kLabel(const std::optional<double>& sigmas) {
-  if (!sigmas) return "plain";
+std::string growthLabel(const GrowthRow& row) {
   std::ostringstream out;
-  out << "K " << *sigmas;
+  if (row.patch_radius_m)
+    out << "patch " << *row.patch_radius_m * 1000 << " mm";
+  else if (row.sigmas)
+    out << "K " << *row.sigmas;
+  else
+    out << "plain";
   return out.str();
 }
 
@@ -124,9 +130,18 @@ ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& r
   for (const GraspRecord& r : records)
     for (const ConservativeOutcome& c : r.filtered.conservative) ks.insert(c.sigmas);
   summary.sigmas.assign(ks.begin(), ks.end());
+  std::set<double> radii;
+  for (const GraspRecord& r : records)
+    if (r.patch) radii.insert(r.patch->radius_m);
+  summary.patch_radii_m.assign(radii.begin(), radii.end());
   auto settingOf = [&](double k) {
     return 1 + static_cast<std::size_t>(std::lower_bound(summary.sigmas.begin(), summary.sigmas.end(), k) -
                                         summary.sigmas.begin());
+  };
+  auto patchSettingOf = [&](double radius) {
+    return 1 + summary.sigmas.size() +
+           static_cast<std::size_t>(std::lower_bound(summary.patch_radii_m.begin(), summary.patch_radii_m.end(), radius) -
+                                    summary.patch_radii_m.begin());
   };
 
   std::map<Key, RowAccumulator> rows;
@@ -151,12 +166,24 @@ ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& r
         for (const auto& region : c.regions) row.raw.add(region);
         row.raw.add(c.picks);
       }
+      if (r.patch && r.patch->evaluated) {
+        RowAccumulator& row = rows[{pooled, dataset, patchSettingOf(r.patch->radius_m)}];
+        ++row.grasps;
+        for (const auto& region : r.patch->filtered.regions) row.filtered.add(region);
+        for (const auto& region : r.patch->raw.regions) row.raw.add(region);
+        row.filtered.addAimed(r.patch->filtered.aimed_held);
+        row.raw.addAimed(r.patch->raw.aimed_held);
+      }
     }
   }
   for (const auto& [key, acc] : rows) {
     GrowthRow row;
     row.dataset = std::get<1>(key);
-    if (std::get<2>(key) > 0) row.sigmas = summary.sigmas[std::get<2>(key) - 1];
+    const std::size_t setting = std::get<2>(key);
+    if (setting > summary.sigmas.size())
+      row.patch_radius_m = summary.patch_radii_m[setting - 1 - summary.sigmas.size()];
+    else if (setting > 0)
+      row.sigmas = summary.sigmas[setting - 1];
     row.evaluated_grasps = acc.grasps;
     row.filtered = acc.filtered.finish();
     row.raw = acc.raw.finish();
@@ -171,7 +198,7 @@ std::string conservativeSummaryJson(const ConservativeSummary& summary) {
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   for (const GrowthRow& row : summary.rows)
     rows.push_back({{"dataset", row.dataset},
-                    {"growth", row.sigmas ? "conservative" : "plain"},
+                    {"growth", row.patch_radius_m ? "patch" : row.sigmas ? "conservative" : "plain"},
                     {"sigmas", optionalJson(row.sigmas)},
                     {"evaluated_grasps", row.evaluated_grasps},
                     {"filtered", figuresJson(row.filtered)},
@@ -187,7 +214,7 @@ std::string conservativeSummaryMarkdown(const ConservativeSummary& summary) {
          "raw empty | raw aim inside % | raw centre outside % | raw picks held % (grasps) | raw aimed grasp held % |\n"
       << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const GrowthRow& row : summary.rows) {
-    out << "| " << row.dataset << " | " << kLabel(row.sigmas) << " | " << row.evaluated_grasps;
+    out << "| " << row.dataset << " | " << growthLabel(row) << " | " << row.evaluated_grasps;
     for (const GrowthFigures* f : {&row.filtered, &row.raw})
       out << " | " << cell(f->intersection_percent) << " | " << cell(f->false_positive_percent) << " | "
           << f->empty_regions << "/" << f->regions << " | " << cell(f->recommendedInsidePercent()) << " | "
@@ -201,6 +228,10 @@ std::string conservativeSummaryMarkdown(const ConservativeSummary& summary) {
          "one vertex per region (ExperimentConfig::picks_per_grasp), moved onto the CAD mesh by eq. (3), whose CAD grasp holds the "
          "task; in brackets the grasps whose regions were all non-empty. Aimed grasp held: the grasp of every "
          "region's recommended contact, moved onto the CAD mesh the same way, holds the task (over those grasps).\n";
+  if (!summary.patch_radii_m.empty())
+    out << "\nPatch rows: the grasps run again with the reference library's multi-point contacts on all three "
+           "meshes (its own task, alpha x the CAD grasp's patch epsilon, and its own CAD regions); grasps: those "
+           "whose mapped patch grasps hold that task. No random picks; the aimed grasp is checked with CAD patches.\n";
   return out.str();
 }
 
@@ -239,13 +270,13 @@ std::string conservativeCurveSvg(const ConservativeSummary& summary) {
     points << std::fixed << std::setprecision(1);
     labels << std::fixed << std::setprecision(1);
     for (const GrowthRow& row : summary.rows) {
-      if (row.dataset != "All") continue;
+      if (row.dataset != "All" || row.patch_radius_m) continue;
       const GrowthFigures& f = mesh.filtered ? row.filtered : row.raw;
       if (!f.intersection_percent || !f.false_positive_percent) continue;
       const double px = x(*f.false_positive_percent), py = y(*f.intersection_percent);
       points << px << "," << py << " ";
       labels << "<circle cx=\"" << px << "\" cy=\"" << py << "\" r=\"3\" fill=\"" << mesh.colour << "\"/>\n<text x=\""
-             << px + 5 << "\" y=\"" << py + 14 << "\" fill=\"" << mesh.colour << "\">" << kLabel(row.sigmas)
+             << px + 5 << "\" y=\"" << py + 14 << "\" fill=\"" << mesh.colour << "\">" << growthLabel(row)
              << "</text>\n";
     }
     svg << "<polyline points=\"" << points.str() << "\" fill=\"none\" stroke=\"" << mesh.colour
@@ -253,6 +284,16 @@ std::string conservativeCurveSvg(const ConservativeSummary& summary) {
         << labels.str() << "<text x=\"" << x(100) - 80 << "\" y=\"" << legend_y << "\" fill=\"" << mesh.colour
         << "\">" << mesh.name << " mesh</text>\n";
     legend_y += 16;
+    // The patch study is not a point of the K curve: its own task and CAD regions.
+    for (const GrowthRow& row : summary.rows) {
+      if (row.dataset != "All" || !row.patch_radius_m) continue;
+      const GrowthFigures& f = mesh.filtered ? row.filtered : row.raw;
+      if (!f.intersection_percent || !f.false_positive_percent) continue;
+      const double px = x(*f.false_positive_percent), py = y(*f.intersection_percent);
+      svg << "<rect x=\"" << px - 4 << "\" y=\"" << py - 4 << "\" width=\"8\" height=\"8\" fill=\"none\" stroke=\""
+          << mesh.colour << "\" stroke-width=\"2\"/>\n<text x=\"" << px + 6 << "\" y=\"" << py - 6 << "\" fill=\""
+          << mesh.colour << "\">" << growthLabel(row) << "</text>\n";
+    }
   }
   svg << "</svg>\n";
   return svg.str();

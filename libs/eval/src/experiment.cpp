@@ -73,6 +73,7 @@ void ExperimentConfig::validate() const {
   for (const double k : conservative_sigmas)
     if (!(k >= 0) || !std::isfinite(k))
       throw InputError(kSource, "conservative K", "expected K >= 0, got " + std::to_string(k));
+  if (patch) patch->validate();
   contactModel().validate();
 }
 
@@ -113,6 +114,17 @@ int recommendedImage(const icr::ContactRegion& region, const std::vector<int>& m
   return k < mapped.size() ? mapped[k] : -1;
 }
 
+// The CAD grasp of the regions' recommended contacts; empty when one maps
+// nowhere or two map onto one CAD vertex (no grasp a robot could make).
+std::vector<int> aimedCadContacts(const std::vector<icr::ContactRegion>& regions,
+                                  const std::vector<std::vector<int>>& mapped) {
+  std::vector<int> aimed;
+  for (std::size_t n = 0; n < regions.size(); ++n) aimed.push_back(recommendedImage(regions[n], mapped[n]));
+  const std::set<int> distinct(aimed.begin(), aimed.end());
+  if (distinct.count(-1) > 0 || distinct.size() != aimed.size()) return {};
+  return aimed;
+}
+
 }  // namespace
 
 struct DatasetExperiment::Impl {
@@ -146,6 +158,9 @@ struct DatasetExperiment::Impl {
     std::vector<icr::SampledGrasp> grasps;
   };
   std::vector<TestSet> test_sets;
+  // With ExperimentConfig::patch: every vertex's patch, built when first
+  // asked for and shared by all grasps and threads.
+  std::unique_ptr<icr::ContactPatches> cad_patches, raw_patches, filtered_patches;
 
   Impl(const DatasetMeshes& m, const ExperimentConfig& c, const icr::WrenchFrame& f)
       : meshes(m),
@@ -166,6 +181,11 @@ struct DatasetExperiment::Impl {
     for (std::size_t v = 0; v < rim.size(); ++v)
       if (rim[v]) filtered_rim_points.push_back(m.filtered->vertices.positions[v]);
     if (!filtered_rim_points.empty()) filtered_rim = std::make_unique<KdTree>(filtered_rim_points);
+    if (c.patch) {
+      cad_patches = std::make_unique<icr::ContactPatches>(cad_object, *c.patch);
+      raw_patches = std::make_unique<icr::ContactPatches>(raw_object, *c.patch);
+      filtered_patches = std::make_unique<icr::ContactPatches>(filtered_object, *c.patch);
+    }
   }
 
   /// GraspRecord::seen_rim_distance_m of the mapped grasps.
@@ -203,6 +223,8 @@ struct DatasetExperiment::Impl {
   /// the regions' recommended contacts.
   PickCheck checkPicks(const std::vector<icr::ContactRegion>& regions, const std::vector<std::vector<int>>& mapped,
                        double tws_radius, std::uint64_t seed) const;
+  /// The patch-contact study of an evaluated grasp (ExperimentConfig::patch).
+  PatchRecord evaluatePatch(const GraspRecord& record, DistanceWorkspace& workspace) const;
   GraspRecord evaluate(std::size_t set, std::size_t index, DistanceWorkspace& workspace) const;
 };
 
@@ -317,12 +339,76 @@ PickCheck DatasetExperiment::Impl::checkPicks(const std::vector<icr::ContactRegi
     ++check.mapped;
     if (checkTask(cad_contacts, tws_radius, cad_object).fulfilled) ++check.held;
   }
-  std::vector<int> aimed;
-  for (std::size_t n = 0; n < regions.size(); ++n) aimed.push_back(recommendedImage(regions[n], mapped[n]));
-  const std::set<int> distinct(aimed.begin(), aimed.end());
-  check.aimed_held = distinct.count(-1) == 0 && distinct.size() == aimed.size() &&
-                     checkTask(aimed, tws_radius, cad_object).fulfilled;
+  const std::vector<int> aimed = aimedCadContacts(regions, mapped);
+  check.aimed_held = !aimed.empty() && checkTask(aimed, tws_radius, cad_object).fulfilled;
   return check;
+}
+
+PatchRecord DatasetExperiment::Impl::evaluatePatch(const GraspRecord& record, DistanceWorkspace& workspace) const {
+  PatchRecord study;
+  study.radius_m = config.patch->radius_m;
+  study.filter_border = config.patch->filter_border;
+  // The hull is nearly all of a patch ICR's cost (seconds on dense meshes):
+  // each prototype's is built once, checked against the task, then grown from.
+  struct Prototype {
+    icr::GraspWrenchSpace gws;
+    std::vector<int> owners;  // contact index of every wrench
+  };
+  const auto build = [&](const icr::ContactPatches& patches, const std::vector<int>& contacts) {
+    Prototype p;
+    p.gws = icr::patchGraspWrenchSpace(patches, contacts, model, {}, &p.owners);
+    return p;
+  };
+  const Prototype cad = build(*cad_patches, record.cad_contacts);
+  // Every patch holds its centre, so the patch GWS holds the plain one and
+  // the CAD grasp stays force closure; guarded all the same.
+  if (!cad.gws.force_closure) {
+    study.raw.reason = study.filtered.reason = "the CAD grasp's patch GWS is not force closure: " + cad.gws.reason;
+    return study;
+  }
+  study.cad_epsilon = cad.gws.epsilon;
+  study.tws_radius = config.alpha * cad.gws.epsilon;
+  const auto checkMesh = [&](const Prototype& p, PatchMeshOutcome& mesh) {
+    mesh.epsilon = p.gws.force_closure ? p.gws.epsilon : 0.0;
+    mesh.task_fulfilled = p.gws.force_closure && p.gws.epsilon >= study.tws_radius;
+    if (!mesh.task_fulfilled)
+      mesh.reason = p.gws.force_closure ? "the patch GWS does not hold the TWS (epsilon below alpha x the CAD patch epsilon)"
+                                        : "the patch grasp is not force closure: " + p.gws.reason;
+  };
+  const Prototype raw = build(*raw_patches, record.raw.contacts);
+  const Prototype filtered = build(*filtered_patches, record.filtered.contacts);
+  checkMesh(raw, study.raw);
+  checkMesh(filtered, study.filtered);
+  if (!study.raw.task_fulfilled || !study.filtered.task_fulfilled) return study;
+
+  const icr::IcrParameters params = config.icrParameters(study.tws_radius);
+  const icr::IcrResult cad_regions =
+      icr::computePatchContactRegions(cad_object, *cad_patches, record.cad_contacts, cad.gws, cad.owners, params);
+  const icr::IcrResult raw_regions =
+      icr::computePatchContactRegions(raw_object, *raw_patches, record.raw.contacts, raw.gws, raw.owners, params);
+  const icr::IcrResult filtered_regions = icr::computePatchContactRegions(
+      filtered_object, *filtered_patches, record.filtered.contacts, filtered.gws, filtered.owners, params);
+  study.evaluated = true;
+  const std::size_t fingers = cad_regions.regions.size();
+  std::vector<std::vector<int>> raw_mapped(fingers), filtered_mapped(fingers);
+  for (std::size_t n = 0; n < fingers; ++n) {
+    const std::vector<int>& cad_region = cad_regions.regions[n].vertices;
+    const CadRegionSummary summary = quality.summarize(cad_region, workspace);
+    study.cad_region_areas_m2.push_back(cad_regions.regions[n].area_m2);
+    study.raw.regions.push_back(
+        compare(cad_region, summary, *meshes.raw, raw_faces, raw_regions.regions[n], workspace, &raw_mapped[n]));
+    study.filtered.regions.push_back(compare(cad_region, summary, *meshes.filtered, filtered_faces,
+                                             filtered_regions.regions[n], workspace, &filtered_mapped[n]));
+  }
+  const auto aimedHeld = [&](const icr::IcrResult& regions, const std::vector<std::vector<int>>& mapped) {
+    const std::vector<int> aimed = aimedCadContacts(regions.regions, mapped);
+    if (aimed.empty()) return false;
+    const icr::GraspWrenchSpace gws = icr::patchGraspWrenchSpace(*cad_patches, aimed, model);
+    return gws.force_closure && gws.epsilon >= study.tws_radius;
+  };
+  study.raw.aimed_held = aimedHeld(raw_regions, raw_mapped);
+  study.filtered.aimed_held = aimedHeld(filtered_regions, filtered_mapped);
+  return study;
 }
 
 GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index,
@@ -396,6 +482,7 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
     record.raw.conservative.push_back(std::move(raw_outcome));
     record.filtered.conservative.push_back(std::move(filtered_outcome));
   }
+  if (config.patch) record.patch = evaluatePatch(record, workspace);
   return record;
 }
 

@@ -103,6 +103,28 @@ Json meshToJson(const MeshOutcome& mesh) {
   return j;
 }
 
+Json patchMeshToJson(const PatchMeshOutcome& mesh) {
+  Json j{{"task_fulfilled", mesh.task_fulfilled},
+         {"epsilon", doubleToJson(mesh.epsilon)},
+         {"reason", mesh.reason},
+         {"regions", regionsToJson(mesh.regions)}};
+  if (mesh.aimed_held) j["aimed_held"] = *mesh.aimed_held;
+  return j;
+}
+
+Json patchToJson(const PatchRecord& patch) {
+  Json j;
+  j["radius_m"] = doubleToJson(patch.radius_m);
+  j["filter_border"] = patch.filter_border;
+  j["evaluated"] = patch.evaluated;
+  j["cad_epsilon"] = doubleToJson(patch.cad_epsilon);
+  j["tws_radius"] = doubleToJson(patch.tws_radius);
+  j["cad_region_areas_m2"] = doublesToJson(patch.cad_region_areas_m2);
+  j["raw"] = patchMeshToJson(patch.raw);
+  j["filtered"] = patchMeshToJson(patch.filtered);
+  return j;
+}
+
 /// Reads fields of one JSON object, throwing InputError that names the line
 /// and the dotted path of the offending field.
 class FieldReader {
@@ -298,6 +320,31 @@ MeshOutcome meshFromJson(const FieldReader& in, const Json& j, const std::string
   return mesh;
 }
 
+PatchMeshOutcome patchMeshFromJson(const FieldReader& in, const Json& j, const std::string& path) {
+  if (!j.is_object()) in.fail(path, "expected a JSON object");
+  PatchMeshOutcome mesh;
+  mesh.task_fulfilled = in.boolean(j, path, "task_fulfilled");
+  mesh.epsilon = in.number(j, path, "epsilon");
+  mesh.reason = in.string(j, path, "reason");
+  mesh.regions = regionsFromJson(in, j, path);
+  if (!in.optionalMember(j, path, "aimed_held").is_null()) mesh.aimed_held = in.boolean(j, path, "aimed_held");
+  return mesh;
+}
+
+PatchRecord patchFromJson(const FieldReader& in, const Json& j, const std::string& path) {
+  if (!j.is_object()) in.fail(path, "expected a JSON object");
+  PatchRecord patch;
+  patch.radius_m = in.number(j, path, "radius_m");
+  patch.filter_border = in.boolean(j, path, "filter_border");
+  patch.evaluated = in.boolean(j, path, "evaluated");
+  patch.cad_epsilon = in.number(j, path, "cad_epsilon");
+  patch.tws_radius = in.number(j, path, "tws_radius");
+  patch.cad_region_areas_m2 = in.doubleArray(j, path, "cad_region_areas_m2");
+  patch.raw = patchMeshFromJson(in, in.member(j, path, "raw"), FieldReader::join(path, "raw"));
+  patch.filtered = patchMeshFromJson(in, in.member(j, path, "filtered"), FieldReader::join(path, "filtered"));
+  return patch;
+}
+
 bool isBlank(const std::string& line) {
   return std::all_of(line.begin(), line.end(), [](unsigned char c) { return c == ' ' || c == '\t' || c == '\r'; });
 }
@@ -323,6 +370,7 @@ std::string toJsonLine(const GraspRecord& record) {
   j["raw"] = meshToJson(record.raw);
   j["filtered"] = meshToJson(record.filtered);
   if (record.seen_rim_distance_m) j["seen_rim_distance_m"] = doubleToJson(*record.seen_rim_distance_m);
+  if (record.patch) j["patch"] = patchToJson(*record.patch);
   // Compact and ASCII-safe: one record per line whatever the dataset name holds
   // (dump escapes control characters, and invalid UTF-8 is replaced, not thrown).
   return j.dump(-1, ' ', false, Json::error_handler_t::replace);
@@ -351,6 +399,8 @@ GraspRecord fromJsonLine(const std::string& text, const std::string& source, std
   record.filtered = meshFromJson(in, in.member(j, "", "filtered"), "filtered");
   if (!in.optionalMember(j, "", "seen_rim_distance_m").is_null())
     record.seen_rim_distance_m = in.number(j, "", "seen_rim_distance_m");
+  const Json& patch = in.optionalMember(j, "", "patch");
+  if (!patch.is_null()) record.patch = patchFromJson(in, patch, "patch");
   return record;
 }
 

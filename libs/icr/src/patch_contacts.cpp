@@ -171,6 +171,17 @@ std::vector<int> testEveryVertex(const GraspableObject& object, const ContactPat
   return region;
 }
 
+// Before any hull: the checks of every ICR entry point, plus the patch model's own.
+void checkPatchPrototype(const GraspableObject& object, const ContactPatches& patches, const std::vector<int>& contacts,
+                         const IcrParameters& params) {
+  if (&patches.object().mesh() != &object.mesh())
+    throw InputError("contact patches", "", "the patches were built on another mesh than the object's");
+  detail::checkPrototype(object, contacts, params);
+  // Its bound would have to cover every patch point's uncertainty: not derived yet.
+  if (params.conservative)
+    throw InputError("contact patches", "", "conservative growth is not available with patch contacts");
+}
+
 }  // namespace
 
 void PatchParameters::validate() const {
@@ -266,27 +277,34 @@ GraspWrenchSpace patchGraspWrenchSpace(const ContactPatches& patches, const std:
 IcrResult computePatchContactRegions(const GraspableObject& object, const ContactPatches& patches,
                                      const std::vector<int>& contacts, const IcrParameters& params) {
   const auto start = Clock::now();
-  if (&patches.object().mesh() != &object.mesh())
-    throw InputError("contact patches", "", "the patches were built on another mesh than the object's");
-  detail::checkPrototype(object, contacts, params);
-  // Its bound would have to cover every patch point's uncertainty: not derived yet.
-  if (params.conservative)
-    throw InputError("contact patches", "", "conservative growth is not available with patch contacts");
+  checkPatchPrototype(object, patches, contacts, params);
+  std::vector<int> finger_of_wrench;
+  const GraspWrenchSpace gws =
+      patchGraspWrenchSpace(patches, contacts, params.contact_model, params.hull, &finger_of_wrench);
+  const double hull_ms = millisecondsSince(start);
+  IcrResult result = computePatchContactRegions(object, patches, contacts, gws, finger_of_wrench, params);
+  result.timings.hull_ms = hull_ms;
+  result.timings.total_ms = millisecondsSince(start);
+  return result;
+}
+
+IcrResult computePatchContactRegions(const GraspableObject& object, const ContactPatches& patches,
+                                     const std::vector<int>& contacts, const GraspWrenchSpace& gws,
+                                     const std::vector<int>& finger_of_wrench, const IcrParameters& params) {
+  const auto start = Clock::now();
+  checkPatchPrototype(object, patches, contacts, params);
+  // hull_vertices is sorted: its last id is the largest wrench index.
+  if (!gws.hull_vertices.empty() && static_cast<std::size_t>(gws.hull_vertices.back()) >= finger_of_wrench.size())
+    throw InputError("contact patches", "", "the prototype GWS has more wrenches than owners were given for");
 
   IcrResult result;
   result.lambda_m = object.frame().lambda;
   const ContactWrenches generator(params.contact_model, object.frame());
-
-  auto phase = Clock::now();
-  std::vector<int> finger_of_wrench;
-  const GraspWrenchSpace gws =
-      patchGraspWrenchSpace(patches, contacts, params.contact_model, params.hull, &finger_of_wrench);
-  result.timings.hull_ms = millisecondsSince(phase);
   if (!gws.force_closure) throw InputError("grasp", "", "the prototype grasp is not force closure: " + gws.reason);
   result.epsilon = gws.epsilon;
   result.gws_facets = gws.facetCount();
 
-  phase = Clock::now();
+  auto phase = Clock::now();
   const TaskWrenchSpace tws = detail::taskWrenchSpaceFor(params, gws);
   result.tws_radius = tws.radius();
   const SearchZones zones = computeSearchZones(gws, tws, contacts.size(), finger_of_wrench);

@@ -204,6 +204,36 @@ TEST(PatchContacts, BadInputIsRefused) {
   EXPECT_THROW(computePatchContactRegions(other, patches, {0, 1, 2, 3}), InputError);
 }
 
+// A caller that checks the prototype's patch GWS against a task first
+// (the experiment) hands that hull in: same regions, one hull fewer.
+TEST(PatchContacts, APrebuiltPrototypeHullGivesTheSameRegions) {
+  const TriangleMesh mesh = test::cubeSphere(12);
+  const GraspableObject object = GraspableObject::withDefaultFrame(mesh);
+  GraspSamplingParameters sampling;
+  sampling.count = 3;
+  const auto grasps = sampleForceClosureGrasps(object, ContactModel(), sampling);
+  ASSERT_FALSE(grasps.empty());
+  const ContactPatches patches(object, PatchParameters{0.15, true});
+  IcrParameters params;
+  for (const SampledGrasp& g : grasps) {
+    std::vector<int> owners;
+    const GraspWrenchSpace gws = patchGraspWrenchSpace(patches, g.contacts, params.contact_model, params.hull, &owners);
+    const IcrResult direct = computePatchContactRegions(object, patches, g.contacts, params);
+    const IcrResult prebuilt = computePatchContactRegions(object, patches, g.contacts, gws, owners, params);
+    EXPECT_EQ(prebuilt.epsilon, direct.epsilon);
+    EXPECT_EQ(prebuilt.tws_radius, direct.tws_radius);
+    EXPECT_EQ(prebuilt.timings.hull_ms, 0.0);
+    ASSERT_EQ(prebuilt.regions.size(), direct.regions.size());
+    for (std::size_t f = 0; f < direct.regions.size(); ++f) {
+      EXPECT_EQ(prebuilt.regions[f].vertices, direct.regions[f].vertices);
+      EXPECT_EQ(prebuilt.regions[f].recommended.vertex, direct.regions[f].recommended.vertex);
+    }
+    // Owners for fewer wrenches than the hull was built from: refused, not read past.
+    owners.resize(owners.size() / 2);
+    EXPECT_THROW(computePatchContactRegions(object, patches, g.contacts, gws, owners, params), InputError);
+  }
+}
+
 TEST(PatchContacts, ExcludedVerticesNeverJoinARegion) {
   const TriangleMesh mesh = test::cubeSphere(12);
   std::vector<std::uint8_t> excluded(mesh.vertexCount(), 0);

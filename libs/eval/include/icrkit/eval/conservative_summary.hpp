@@ -6,8 +6,11 @@
 /// contacts lie inside the CAD region, how many central points lie
 /// outside it (Q_n < 0), how many random picks from the regions hold
 /// the task on the CAD mesh (MeshOutcome::picks), and how many grasps of
-/// the recommended contacts do. Written as conservative.{json,md,svg} (the svg: the
-/// Int-vs-FP curve over K).
+/// the recommended contacts do. Records of the patch-contact study
+/// (GraspRecord::patch) add a row per patch radius, measured against the CAD
+/// patch regions and with the aimed grasp only (no random picks). Written as
+/// conservative.{json,md,svg} (the svg: the Int-vs-FP curve over K, patch
+/// rows as separate points).
 
 #include <icrkit/eval/experiment_records.hpp>
 
@@ -39,14 +42,16 @@ struct GrowthFigures {
 
 struct GrowthRow {
   std::string dataset;            ///< "All" for the pooled row
-  std::optional<double> sigmas;   ///< unset: plain growth
+  std::optional<double> sigmas;   ///< unset: plain growth (or patch contacts)
+  std::optional<double> patch_radius_m;  ///< set: the patch-contact study with this radius
   std::size_t evaluated_grasps = 0;
   GrowthFigures filtered, raw;
 };
 
 struct ConservativeSummary {
   std::vector<double> sigmas;  ///< the K values found in the records, ascending
-  /// Per dataset (sorted) and then "All": plain first, then each K.
+  std::vector<double> patch_radii_m;  ///< the patch radii found in the records, ascending
+  /// Per dataset (sorted) and then "All": plain first, then each K, then each patch radius.
   std::vector<GrowthRow> rows;
 };
 

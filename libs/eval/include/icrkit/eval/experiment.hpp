@@ -15,7 +15,9 @@
 /// contact on an excluded vertex is also reported snapped (those contacts
 /// moved to the nearest kept vertex), beside, never instead of, the paper's
 /// check. Each region's recommended contact (its deepest vertex) is mapped
-/// onto the CAD mesh and checked against C_n^C.
+/// onto the CAD mesh and checked against C_n^C. Optionally the same grasps
+/// are run again with conservative growth and with patch contacts, beside
+/// the plain outcome.
 
 #include <icrkit/core/progress.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
@@ -23,9 +25,11 @@
 #include <icrkit/eval/mesh_distances.hpp>
 #include <icrkit/eval/normal_line_mappings.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
+#include <icrkit/icr/patch_contacts.hpp>
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -81,6 +85,16 @@ struct ExperimentConfig {
   /// a robot trusting the regions gets a grasp that holds on the true object.
   /// 0: none.
   std::size_t picks_per_grasp = 20;
+  /// When set, every evaluated grasp is also run with the reference ICR
+  /// library's multi-point (patch) contacts (icr/patch_contacts.hpp) on all
+  /// three meshes, as a study of its own (GraspRecord::patch): the CAD
+  /// grasp's patch GWS sets the TWS (alpha x its patch epsilon), the mapped
+  /// grasps must hold it with their patch GWS, and the patch regions on the
+  /// raw and filtered meshes are compared with the CAD patch regions. No
+  /// random picks (each would cost a patch hull, seconds on dense meshes):
+  /// only the grasp of the recommended contacts is checked on the CAD mesh.
+  /// Never changes the plain outcome, Table I or Fig. 8.
+  std::optional<icr::PatchParameters> patch;
 
   /// Throws InputError naming the first parameter out of range.
   void validate() const;

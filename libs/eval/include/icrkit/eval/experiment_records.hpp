@@ -92,6 +92,31 @@ struct MeshOutcome {
   bool eligibleAfterSnapping() const { return eligible() || (snapped && snapped->task_fulfilled); }
 };
 
+/// One reconstructed mesh's part of the patch-contact study.
+struct PatchMeshOutcome {
+  bool task_fulfilled = false;            ///< its patch GWS is force closure and holds the patch TWS
+  double epsilon = 0.0;                   ///< of its patch GWS, 0 when not force closure
+  std::string reason;                     ///< why the task is not met; empty when it is
+  std::vector<RegionComparison> regions;  ///< against the CAD patch regions, when the study evaluated the grasp
+  /// The grasp of the regions' recommended contacts, moved onto the CAD mesh
+  /// by eq. (3), holds the patch TWS with CAD patches there; unset when not
+  /// evaluated or a region is empty.
+  std::optional<bool> aimed_held;
+};
+
+/// The grasp run with multi-point (patch) contacts on all three meshes
+/// (ExperimentConfig::patch): its own task (alpha x the CAD patch epsilon)
+/// and its own CAD regions. The contacts are the plain record's.
+struct PatchRecord {
+  double radius_m = 0.0;
+  bool filter_border = true;
+  double cad_epsilon = 0.0;               ///< of the CAD grasp's patch GWS
+  double tws_radius = 0.0;                ///< alpha * cad_epsilon
+  std::vector<double> cad_region_areas_m2;  ///< per finger, when evaluated
+  PatchMeshOutcome raw, filtered;
+  bool evaluated = false;                 ///< both mapped patch grasps hold the task: regions were compared
+};
+
 struct GraspRecord {
   std::string dataset;
   std::size_t fingers = 0;
@@ -114,6 +139,9 @@ struct GraspRecord {
   /// onto that rim; results_tables.hpp reports eligibility without such
   /// grasps beside the paper's (TableOneOptions::seen_rim_distance_m).
   std::optional<double> seen_rim_distance_m;
+  /// Set for grasps the plain experiment evaluated when
+  /// ExperimentConfig::patch is set; unset otherwise.
+  std::optional<PatchRecord> patch;
 
   /// Records sort by (dataset, fingers, index): the order of every output.
   bool operator<(const GraspRecord& other) const;

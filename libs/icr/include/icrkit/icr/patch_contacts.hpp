@@ -101,4 +101,12 @@ GraspWrenchSpace patchGraspWrenchSpace(const ContactPatches& patches, const std:
 IcrResult computePatchContactRegions(const GraspableObject& object, const ContactPatches& patches,
                                      const std::vector<int>& contacts, const IcrParameters& params = {});
 
+/// The same, from the prototype's patch GWS already built by
+/// patchGraspWrenchSpace (with `finger_of_wrench`) on these contacts and
+/// `params.hull`: for callers that check the GWS against a task first, so
+/// the hull (most of the cost) is built once. `timings.hull_ms` is then 0.
+IcrResult computePatchContactRegions(const GraspableObject& object, const ContactPatches& patches,
+                                     const std::vector<int>& contacts, const GraspWrenchSpace& prototype_gws,
+                                     const std::vector<int>& finger_of_wrench, const IcrParameters& params = {});
+
 }  // namespace icrkit::icr
