@@ -69,7 +69,7 @@ void ExperimentOptions::addTo(CLI::App& command, bool with_preselection) {
       "--patch-radius", [this](const double& value) { patch_radius = value; },
       "Also run every evaluated grasp with the reference ICR library's multi-point (patch) contacts of this "
       "radius (metres) on all three meshes: its own task (alpha x the CAD patch epsilon) and CAD regions, rows "
-      "'patch' in conservative.{json,md}. Costs a patch hull per mesh and grasp (seconds on dense meshes)");
+      "'patch' in conservative.{json,md}. Costs up to 5 patch hulls per grasp (seconds each on dense meshes)");
 }
 
 eval::Shard ExperimentOptions::parsedShard() const {
@@ -195,6 +195,8 @@ eval::ExperimentConfig experimentConfigFromJson(const nlohmann::json& config) {
   if (config.contains("conservative_sigmas"))
     out.conservative_sigmas = config.at("conservative_sigmas").get<std::vector<double>>();
   if (config.contains("patch")) {
+    if (!config.at("patch").is_object())
+      throw InputError("run.json", "config.patch", "expected an object with radius_m and filter_border");
     out.patch = icr::PatchParameters{};
     out.patch->radius_m = config.at("patch").value("radius_m", out.patch->radius_m);
     out.patch->filter_border = config.at("patch").value("filter_border", out.patch->filter_border);

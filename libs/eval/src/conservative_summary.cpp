@@ -55,6 +55,7 @@ struct Accumulator {
 
 struct RowAccumulator {
   std::size_t grasps = 0;
+  std::size_t studied = 0, raw_task_met = 0, filtered_task_met = 0;  // patch rows
   Accumulator filtered, raw;
 };
 
@@ -166,8 +167,12 @@ ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& r
         for (const auto& region : c.regions) row.raw.add(region);
         row.raw.add(c.picks);
       }
-      if (r.patch && r.patch->evaluated) {
+      if (r.patch) {
         RowAccumulator& row = rows[{pooled, dataset, patchSettingOf(r.patch->radius_m)}];
+        ++row.studied;
+        row.raw_task_met += r.patch->raw.task_fulfilled;
+        row.filtered_task_met += r.patch->filtered.task_fulfilled;
+        if (!r.patch->evaluated) continue;
         ++row.grasps;
         for (const auto& region : r.patch->filtered.regions) row.filtered.add(region);
         for (const auto& region : r.patch->raw.regions) row.raw.add(region);
@@ -185,6 +190,9 @@ ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& r
     else if (setting > 0)
       row.sigmas = summary.sigmas[setting - 1];
     row.evaluated_grasps = acc.grasps;
+    row.studied_grasps = acc.studied;
+    row.raw_task_met = acc.raw_task_met;
+    row.filtered_task_met = acc.filtered_task_met;
     row.filtered = acc.filtered.finish();
     row.raw = acc.raw.finish();
     summary.rows.push_back(std::move(row));
@@ -195,14 +203,24 @@ ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& r
 std::string conservativeSummaryJson(const ConservativeSummary& summary) {
   nlohmann::ordered_json j;
   j["sigmas"] = summary.sigmas;
+  // Patch keys only when the study ran, so other runs keep their form.
+  if (!summary.patch_radii_m.empty()) j["patch_radii_m"] = summary.patch_radii_m;
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  for (const GrowthRow& row : summary.rows)
-    rows.push_back({{"dataset", row.dataset},
-                    {"growth", row.patch_radius_m ? "patch" : row.sigmas ? "conservative" : "plain"},
-                    {"sigmas", optionalJson(row.sigmas)},
-                    {"evaluated_grasps", row.evaluated_grasps},
-                    {"filtered", figuresJson(row.filtered)},
-                    {"raw", figuresJson(row.raw)}});
+  for (const GrowthRow& row : summary.rows) {
+    nlohmann::ordered_json item{{"dataset", row.dataset},
+                                {"growth", row.patch_radius_m ? "patch" : row.sigmas ? "conservative" : "plain"},
+                                {"sigmas", optionalJson(row.sigmas)}};
+    if (row.patch_radius_m) {
+      item["patch_radius_m"] = *row.patch_radius_m;
+      item["studied_grasps"] = row.studied_grasps;
+      item["raw_task_met"] = row.raw_task_met;
+      item["filtered_task_met"] = row.filtered_task_met;
+    }
+    item["evaluated_grasps"] = row.evaluated_grasps;
+    item["filtered"] = figuresJson(row.filtered);
+    item["raw"] = figuresJson(row.raw);
+    rows.push_back(std::move(item));
+  }
   j["rows"] = std::move(rows);
   return j.dump(2);
 }
@@ -215,6 +233,7 @@ std::string conservativeSummaryMarkdown(const ConservativeSummary& summary) {
       << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const GrowthRow& row : summary.rows) {
     out << "| " << row.dataset << " | " << growthLabel(row) << " | " << row.evaluated_grasps;
+    if (row.patch_radius_m) out << " of " << row.studied_grasps;
     for (const GrowthFigures* f : {&row.filtered, &row.raw})
       out << " | " << cell(f->intersection_percent) << " | " << cell(f->false_positive_percent) << " | "
           << f->empty_regions << "/" << f->regions << " | " << cell(f->recommendedInsidePercent()) << " | "
@@ -231,7 +250,8 @@ std::string conservativeSummaryMarkdown(const ConservativeSummary& summary) {
   if (!summary.patch_radii_m.empty())
     out << "\nPatch rows: the grasps run again with the reference library's multi-point contacts on all three "
            "meshes (its own task, alpha x the CAD grasp's patch epsilon, and its own CAD regions); grasps: those "
-           "whose mapped patch grasps hold that task. No random picks; the aimed grasp is checked with CAD patches.\n";
+           "whose mapped patch grasps both hold that task, of those the plain experiment evaluated. No random picks; the aimed "
+           "grasp is checked with CAD patches.\n";
   return out.str();
 }
 

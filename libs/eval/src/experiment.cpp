@@ -346,6 +346,9 @@ PickCheck DatasetExperiment::Impl::checkPicks(const std::vector<icr::ContactRegi
 
 PatchRecord DatasetExperiment::Impl::evaluatePatch(const GraspRecord& record, DistanceWorkspace& workspace) const {
   PatchRecord study;
+  // The TWS radius is set once the CAD patch epsilon is known; the hull
+  // options are the ones the regions are grown with.
+  icr::IcrParameters params = config.icrParameters(0.0);
   study.radius_m = config.patch->radius_m;
   study.filter_border = config.patch->filter_border;
   // The hull is nearly all of a patch ICR's cost (seconds on dense meshes):
@@ -356,7 +359,7 @@ PatchRecord DatasetExperiment::Impl::evaluatePatch(const GraspRecord& record, Di
   };
   const auto build = [&](const icr::ContactPatches& patches, const std::vector<int>& contacts) {
     Prototype p;
-    p.gws = icr::patchGraspWrenchSpace(patches, contacts, model, {}, &p.owners);
+    p.gws = icr::patchGraspWrenchSpace(patches, contacts, model, params.hull, &p.owners);
     return p;
   };
   const Prototype cad = build(*cad_patches, record.cad_contacts);
@@ -381,7 +384,7 @@ PatchRecord DatasetExperiment::Impl::evaluatePatch(const GraspRecord& record, Di
   checkMesh(filtered, study.filtered);
   if (!study.raw.task_fulfilled || !study.filtered.task_fulfilled) return study;
 
-  const icr::IcrParameters params = config.icrParameters(study.tws_radius);
+  params.tws_radius = study.tws_radius;
   const icr::IcrResult cad_regions =
       icr::computePatchContactRegions(cad_object, *cad_patches, record.cad_contacts, cad.gws, cad.owners, params);
   const icr::IcrResult raw_regions =
@@ -403,7 +406,7 @@ PatchRecord DatasetExperiment::Impl::evaluatePatch(const GraspRecord& record, Di
   const auto aimedHeld = [&](const icr::IcrResult& regions, const std::vector<std::vector<int>>& mapped) {
     const std::vector<int> aimed = aimedCadContacts(regions.regions, mapped);
     if (aimed.empty()) return false;
-    const icr::GraspWrenchSpace gws = icr::patchGraspWrenchSpace(*cad_patches, aimed, model);
+    const icr::GraspWrenchSpace gws = icr::patchGraspWrenchSpace(*cad_patches, aimed, model, params.hull);
     return gws.force_closure && gws.epsilon >= study.tws_radius;
   };
   study.raw.aimed_held = aimedHeld(raw_regions, raw_mapped);

@@ -74,11 +74,18 @@ TEST(ExperimentPatch, OnThePerfectReconstructionThePatchRegionsAreTheCadOnes) {
   EXPECT_EQ(patch.patch_radius_m, std::optional<double>(0.006));
   EXPECT_FALSE(patch.sigmas.has_value());
   EXPECT_EQ(patch.evaluated_grasps, studied);
+  EXPECT_EQ(patch.studied_grasps, studied);  // the perfect mesh meets every patch task
+  EXPECT_EQ(patch.filtered_task_met, studied);
+  EXPECT_EQ(summary.rows[2].studied_grasps, 0u);  // All, plain: not a patch row
   EXPECT_EQ(patch.filtered.aimed_known, studied);
   EXPECT_EQ(patch.filtered.aimed_held, studied);
   EXPECT_EQ(patch.filtered.grasps_with_picks, 0u);
   EXPECT_NE(conservativeSummaryMarkdown(summary).find("| All | patch 6 mm |"), std::string::npos);
-  EXPECT_NE(conservativeSummaryJson(summary).find("\"growth\": \"patch\""), std::string::npos);
+  const std::string json = conservativeSummaryJson(summary);
+  EXPECT_NE(json.find("\"growth\": \"patch\""), std::string::npos);
+  EXPECT_NE(json.find("\"patch_radius_m\": 0.006"), std::string::npos);
+  EXPECT_NE(json.find("\"patch_radii_m\""), std::string::npos);
+  EXPECT_NE(json.find("\"studied_grasps\""), std::string::npos);
   EXPECT_NE(conservativeCurveSvg(summary).find("patch 6 mm"), std::string::npos);
 }
 

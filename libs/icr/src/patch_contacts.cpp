@@ -293,13 +293,26 @@ IcrResult computePatchContactRegions(const GraspableObject& object, const Contac
                                      const std::vector<int>& finger_of_wrench, const IcrParameters& params) {
   const auto start = Clock::now();
   checkPatchPrototype(object, patches, contacts, params);
-  // hull_vertices is sorted: its last id is the largest wrench index.
-  if (!gws.hull_vertices.empty() && static_cast<std::size_t>(gws.hull_vertices.back()) >= finger_of_wrench.size())
-    throw InputError("contact patches", "", "the prototype GWS has more wrenches than owners were given for");
+  const ContactWrenches generator(params.contact_model, object.frame());
+  // What patchGraspWrenchSpace makes of these contacts: one block of owners
+  // per contact, of its patch's size times the wrenches per point. A hull
+  // of other contacts or another contact model would give wrong regions.
+  std::size_t expected = 0;
+  for (int c : contacts) expected += patches.of(c).size() * generator.perContact();
+  const bool owners_valid =
+      finger_of_wrench.size() == expected &&
+      std::all_of(finger_of_wrench.begin(), finger_of_wrench.end(),
+                  [&](int f) { return f >= 0 && static_cast<std::size_t>(f) < contacts.size(); }) &&
+      // hull_vertices is sorted: its last id is the largest wrench index.
+      (gws.hull_vertices.empty() || static_cast<std::size_t>(gws.hull_vertices.back()) < expected);
+  if (!owners_valid)
+    throw InputError("contact patches", "",
+                     "the prebuilt prototype GWS does not belong to these contacts' patches (expected " +
+                         std::to_string(expected) + " wrench owners, got " + std::to_string(finger_of_wrench.size()) +
+                         ")");
 
   IcrResult result;
   result.lambda_m = object.frame().lambda;
-  const ContactWrenches generator(params.contact_model, object.frame());
   if (!gws.force_closure) throw InputError("grasp", "", "the prototype grasp is not force closure: " + gws.reason);
   result.epsilon = gws.epsilon;
   result.gws_facets = gws.facetCount();

@@ -44,6 +44,12 @@ struct GrowthRow {
   std::string dataset;            ///< "All" for the pooled row
   std::optional<double> sigmas;   ///< unset: plain growth (or patch contacts)
   std::optional<double> patch_radius_m;  ///< set: the patch-contact study with this radius
+  /// Patch rows: grasps the study ran on (those the plain experiment
+  /// evaluated); `evaluated_grasps` of them had both mapped patch grasps
+  /// hold the patch task. 0 on other rows.
+  std::size_t studied_grasps = 0;
+  std::size_t raw_task_met = 0;       ///< patch rows: studied grasps whose raw patch grasp held the task
+  std::size_t filtered_task_met = 0;  ///< ... whose filtered patch grasp did
   std::size_t evaluated_grasps = 0;
   GrowthFigures filtered, raw;
 };
