@@ -114,6 +114,12 @@ int recommendedImage(const icr::ContactRegion& region, const std::vector<int>& m
   return k < mapped.size() ? mapped[k] : -1;
 }
 
+// The task of every grasp in the experiment: force closure, and the TWS
+// ball (radius alpha x the CAD grasp's epsilon) inside the GWS.
+bool holdsTask(const icr::GraspWrenchSpace& gws, double tws_radius) {
+  return gws.force_closure && gws.epsilon >= tws_radius;
+}
+
 // The CAD grasp of the regions' recommended contacts; empty when one maps
 // nowhere or two map onto one CAD vertex (no grasp a robot could make).
 std::vector<int> aimedCadContacts(const std::vector<icr::ContactRegion>& regions,
@@ -218,6 +224,16 @@ struct DatasetExperiment::Impl {
   RegionComparison compare(const std::vector<int>& cad_region, const CadRegionSummary& cad_summary,
                            const TriangleMesh& scan, const VertexFaces& scan_faces, const icr::ContactRegion& scan_region,
                            DistanceWorkspace& workspace, std::vector<int>* mapped_out = nullptr) const;
+  /// One growth setting's raw and filtered regions, each compared with the
+  /// CAD region of its finger (`summaries`: those regions' summaries).
+  struct SettingComparison {
+    std::vector<RegionComparison> raw, filtered;
+    std::vector<std::vector<int>> raw_mapped, filtered_mapped;  ///< each region's vertices' CAD images
+  };
+  std::vector<CadRegionSummary> summarize(const icr::IcrResult& cad, DistanceWorkspace& workspace) const;
+  SettingComparison compareSetting(const icr::IcrResult& cad, const std::vector<CadRegionSummary>& summaries,
+                                   const icr::IcrResult& raw, const icr::IcrResult& filtered,
+                                   DistanceWorkspace& workspace) const;
   /// Picks one vertex per region (as CAD vertices: `mapped` follows each
   /// region's vertex order), checks them on the CAD mesh; and the grasp of
   /// the regions' recommended contacts.
@@ -234,7 +250,7 @@ DatasetExperiment::Impl::TaskCheck DatasetExperiment::Impl::checkTask(const std:
   TaskCheck check;
   const icr::GraspWrenchSpace gws = icr::graspWrenchSpace(object, contacts, model);
   check.epsilon = gws.force_closure ? gws.epsilon : 0.0;
-  check.fulfilled = gws.force_closure && gws.epsilon >= tws_radius;
+  check.fulfilled = holdsTask(gws, tws_radius);
   if (!check.fulfilled)
     check.reason = gws.force_closure ? "the GWS does not hold the TWS (epsilon below alpha x the CAD epsilon)"
                                      : "not force closure: " + gws.reason;
@@ -320,6 +336,29 @@ RegionComparison DatasetExperiment::Impl::compare(const std::vector<int>& cad_re
   return c;
 }
 
+std::vector<CadRegionSummary> DatasetExperiment::Impl::summarize(const icr::IcrResult& cad,
+                                                                DistanceWorkspace& workspace) const {
+  std::vector<CadRegionSummary> summaries;
+  for (const icr::ContactRegion& region : cad.regions) summaries.push_back(quality.summarize(region.vertices, workspace));
+  return summaries;
+}
+
+DatasetExperiment::Impl::SettingComparison DatasetExperiment::Impl::compareSetting(
+    const icr::IcrResult& cad, const std::vector<CadRegionSummary>& summaries, const icr::IcrResult& raw,
+    const icr::IcrResult& filtered, DistanceWorkspace& workspace) const {
+  const std::size_t fingers = cad.regions.size();
+  SettingComparison c;
+  c.raw_mapped.resize(fingers);
+  c.filtered_mapped.resize(fingers);
+  for (std::size_t n = 0; n < fingers; ++n) {
+    const std::vector<int>& cad_region = cad.regions[n].vertices;
+    c.raw.push_back(compare(cad_region, summaries[n], *meshes.raw, raw_faces, raw.regions[n], workspace, &c.raw_mapped[n]));
+    c.filtered.push_back(compare(cad_region, summaries[n], *meshes.filtered, filtered_faces, filtered.regions[n],
+                                 workspace, &c.filtered_mapped[n]));
+  }
+  return c;
+}
+
 PickCheck DatasetExperiment::Impl::checkPicks(const std::vector<icr::ContactRegion>& regions,
                                               const std::vector<std::vector<int>>& mapped, double tws_radius,
                                               std::uint64_t seed) const {
@@ -373,7 +412,7 @@ PatchRecord DatasetExperiment::Impl::evaluatePatch(const GraspRecord& record, Di
   study.tws_radius = config.alpha * cad.gws.epsilon;
   const auto checkMesh = [&](const Prototype& p, PatchMeshOutcome& mesh) {
     mesh.epsilon = p.gws.force_closure ? p.gws.epsilon : 0.0;
-    mesh.task_fulfilled = p.gws.force_closure && p.gws.epsilon >= study.tws_radius;
+    mesh.task_fulfilled = holdsTask(p.gws, study.tws_radius);
     if (!mesh.task_fulfilled)
       mesh.reason = p.gws.force_closure ? "the patch GWS does not hold the TWS (epsilon below alpha x the CAD patch epsilon)"
                                         : "the patch grasp is not force closure: " + p.gws.reason;
@@ -392,25 +431,18 @@ PatchRecord DatasetExperiment::Impl::evaluatePatch(const GraspRecord& record, Di
   const icr::IcrResult filtered_regions = icr::computePatchContactRegions(
       filtered_object, *filtered_patches, record.filtered.contacts, filtered.gws, filtered.owners, params);
   study.evaluated = true;
-  const std::size_t fingers = cad_regions.regions.size();
-  std::vector<std::vector<int>> raw_mapped(fingers), filtered_mapped(fingers);
-  for (std::size_t n = 0; n < fingers; ++n) {
-    const std::vector<int>& cad_region = cad_regions.regions[n].vertices;
-    const CadRegionSummary summary = quality.summarize(cad_region, workspace);
-    study.cad_region_areas_m2.push_back(cad_regions.regions[n].area_m2);
-    study.raw.regions.push_back(
-        compare(cad_region, summary, *meshes.raw, raw_faces, raw_regions.regions[n], workspace, &raw_mapped[n]));
-    study.filtered.regions.push_back(compare(cad_region, summary, *meshes.filtered, filtered_faces,
-                                             filtered_regions.regions[n], workspace, &filtered_mapped[n]));
-  }
+  for (const icr::ContactRegion& region : cad_regions.regions) study.cad_region_areas_m2.push_back(region.area_m2);
+  SettingComparison compared =
+      compareSetting(cad_regions, summarize(cad_regions, workspace), raw_regions, filtered_regions, workspace);
+  study.raw.regions = std::move(compared.raw);
+  study.filtered.regions = std::move(compared.filtered);
   const auto aimedHeld = [&](const icr::IcrResult& regions, const std::vector<std::vector<int>>& mapped) {
     const std::vector<int> aimed = aimedCadContacts(regions.regions, mapped);
     if (aimed.empty()) return false;
-    const icr::GraspWrenchSpace gws = icr::patchGraspWrenchSpace(*cad_patches, aimed, model, params.hull);
-    return gws.force_closure && gws.epsilon >= study.tws_radius;
+    return holdsTask(icr::patchGraspWrenchSpace(*cad_patches, aimed, model, params.hull), study.tws_radius);
   };
-  study.raw.aimed_held = aimedHeld(raw_regions, raw_mapped);
-  study.filtered.aimed_held = aimedHeld(filtered_regions, filtered_mapped);
+  study.raw.aimed_held = aimedHeld(raw_regions, compared.raw_mapped);
+  study.filtered.aimed_held = aimedHeld(filtered_regions, compared.filtered_mapped);
   return study;
 }
 
@@ -439,27 +471,20 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
   const icr::IcrResult raw = icr::computeIndependentContactRegions(raw_object, record.raw.contacts, params);
   const icr::IcrResult filtered = icr::computeIndependentContactRegions(filtered_object, record.filtered.contacts, params);
   record.evaluated = true;
-  std::vector<CadRegionSummary> summaries;
-  const std::size_t fingers = cad.regions.size();
-  std::vector<std::vector<int>> raw_mapped(fingers), filtered_mapped(fingers);
-  for (std::size_t n = 0; n < fingers; ++n) {
-    const std::vector<int>& cad_region = cad.regions[n].vertices;
-    summaries.push_back(quality.summarize(cad_region, workspace));
-    const CadRegionSummary& summary = summaries.back();
-    record.cad_region_areas_m2.push_back(cad.regions[n].area_m2);
-    record.raw.regions.push_back(
-        compare(cad_region, summary, *meshes.raw, raw_faces, raw.regions[n], workspace, &raw_mapped[n]));
-    record.filtered.regions.push_back(compare(cad_region, summary, *meshes.filtered, filtered_faces,
-                                              filtered.regions[n], workspace, &filtered_mapped[n]));
-  }
+  for (const icr::ContactRegion& region : cad.regions) record.cad_region_areas_m2.push_back(region.area_m2);
+  // The CAD regions are summarised once: every growth setting is compared with them.
+  const std::vector<CadRegionSummary> summaries = summarize(cad, workspace);
+  SettingComparison plain = compareSetting(cad, summaries, raw, filtered, workspace);
+  record.raw.regions = std::move(plain.raw);
+  record.filtered.regions = std::move(plain.filtered);
   // One seed per grasp and growth setting: the picks do not depend on which
   // thread or shard evaluates the grasp.
   const auto pickSeed = [&](std::size_t setting, std::size_t mesh) {
     return ((config.seed * 1000003 + record.fingers) * 1000003 + index) * 1000003 + setting * 2 + mesh;
   };
   if (config.picks_per_grasp > 0) {
-    record.raw.picks = checkPicks(raw.regions, raw_mapped, record.tws_radius, pickSeed(0, 0));
-    record.filtered.picks = checkPicks(filtered.regions, filtered_mapped, record.tws_radius, pickSeed(0, 1));
+    record.raw.picks = checkPicks(raw.regions, plain.raw_mapped, record.tws_radius, pickSeed(0, 0));
+    record.filtered.picks = checkPicks(filtered.regions, plain.filtered_mapped, record.tws_radius, pickSeed(0, 1));
   }
   for (const double k : config.conservative_sigmas) {
     icr::IcrParameters conservative = params;
@@ -468,19 +493,13 @@ GraspRecord DatasetExperiment::Impl::evaluate(std::size_t set, std::size_t index
     const icr::IcrResult raw_k = icr::computeIndependentContactRegions(raw_object, record.raw.contacts, conservative);
     const icr::IcrResult filtered_k =
         icr::computeIndependentContactRegions(filtered_object, record.filtered.contacts, conservative);
-    ConservativeOutcome raw_outcome{k, {}, {}}, filtered_outcome{k, {}, {}};
-    for (std::size_t n = 0; n < fingers; ++n) {
-      const std::vector<int>& cad_region = cad.regions[n].vertices;
-      const CadRegionSummary& summary = summaries[n];
-      raw_outcome.regions.push_back(
-          compare(cad_region, summary, *meshes.raw, raw_faces, raw_k.regions[n], workspace, &raw_mapped[n]));
-      filtered_outcome.regions.push_back(compare(cad_region, summary, *meshes.filtered, filtered_faces,
-                                                 filtered_k.regions[n], workspace, &filtered_mapped[n]));
-    }
+    SettingComparison compared = compareSetting(cad, summaries, raw_k, filtered_k, workspace);
+    ConservativeOutcome raw_outcome{k, std::move(compared.raw), {}}, filtered_outcome{k, std::move(compared.filtered), {}};
     if (config.picks_per_grasp > 0) {
       const std::size_t setting = 1 + record.raw.conservative.size();
-      raw_outcome.picks = checkPicks(raw_k.regions, raw_mapped, record.tws_radius, pickSeed(setting, 0));
-      filtered_outcome.picks = checkPicks(filtered_k.regions, filtered_mapped, record.tws_radius, pickSeed(setting, 1));
+      raw_outcome.picks = checkPicks(raw_k.regions, compared.raw_mapped, record.tws_radius, pickSeed(setting, 0));
+      filtered_outcome.picks =
+          checkPicks(filtered_k.regions, compared.filtered_mapped, record.tws_radius, pickSeed(setting, 1));
     }
     record.raw.conservative.push_back(std::move(raw_outcome));
     record.filtered.conservative.push_back(std::move(filtered_outcome));

@@ -364,9 +364,7 @@ std::string toJsonLine(const GraspRecord& record) {
   j["cad_contacts"] = record.cad_contacts;
   j["cad_epsilon"] = doubleToJson(record.cad_epsilon);
   j["tws_radius"] = doubleToJson(record.tws_radius);
-  Json areas = Json::array();
-  for (double a : record.cad_region_areas_m2) areas.push_back(doubleToJson(a));
-  j["cad_region_areas_m2"] = std::move(areas);
+  j["cad_region_areas_m2"] = doublesToJson(record.cad_region_areas_m2);
   j["raw"] = meshToJson(record.raw);
   j["filtered"] = meshToJson(record.filtered);
   if (record.seen_rim_distance_m) j["seen_rim_distance_m"] = doubleToJson(*record.seen_rim_distance_m);
