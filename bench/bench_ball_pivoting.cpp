@@ -5,7 +5,7 @@
 
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
-#include <icrkit/reconstruction/ball_pivoting.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>

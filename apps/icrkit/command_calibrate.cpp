@@ -8,10 +8,10 @@
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
-#include <icrkit/reconstruction/camera_calibration.hpp>
-#include <icrkit/reconstruction/image_files.hpp>
-#include <icrkit/reconstruction/rawlog_intrinsics.hpp>
-#include <icrkit/reconstruction/rawlog_reader.hpp>
+#include <icrkit/reconstruction/calibration/camera_calibration.hpp>
+#include <icrkit/reconstruction/input/image_files.hpp>
+#include <icrkit/reconstruction/input/rawlog_intrinsics.hpp>
+#include <icrkit/reconstruction/input/rawlog_reader.hpp>
 
 #include <memory>
 #include <string>

@@ -8,7 +8,7 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
-#include <icrkit/reconstruction/range_calibration.hpp>
+#include <icrkit/reconstruction/calibration/range_calibration.hpp>
 
 #include <cmath>
 #include <memory>

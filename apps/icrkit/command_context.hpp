@@ -2,7 +2,7 @@
 // What every subcommand shares: the global flags, the JSON summary and the
 // progress display. Commands only call libraries and report.
 
-#include <icrkit/core/progress.hpp>
+#include "terminal_progress.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -9,9 +9,9 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/file_format.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
-#include <icrkit/reconstruction/rawlog_reader.hpp>
-#include <icrkit/reconstruction/scan_source.hpp>
-#include <icrkit/reconstruction/tum_folder_reader.hpp>
+#include <icrkit/reconstruction/input/rawlog_reader.hpp>
+#include <icrkit/reconstruction/input/scan_source.hpp>
+#include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 #include <icrkit/sim/rawlog_writer.hpp>
 
 #include <algorithm>

@@ -10,8 +10,8 @@
 #include <icrkit/core/io/file_format.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
-#include <icrkit/reconstruction/ball_pivoting.hpp>
-#include <icrkit/reconstruction/octree_fusion.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
+#include <icrkit/reconstruction/fusion/octree_fusion.hpp>
 
 #include <cmath>
 #include <memory>

@@ -14,9 +14,9 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/pose.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
-#include <icrkit/reconstruction/scan_source.hpp>
-#include <icrkit/reconstruction/trajectory_error.hpp>
-#include <icrkit/reconstruction/tum_folder_reader.hpp>
+#include <icrkit/reconstruction/input/scan_source.hpp>
+#include <icrkit/reconstruction/registration/trajectory_error.hpp>
+#include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 
 #include <algorithm>
 #include <cstdio>

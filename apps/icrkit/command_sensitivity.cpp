@@ -18,7 +18,7 @@
 #include <icrkit/eval/sensitivity_study.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 #include <icrkit/ndt/preselection.hpp>
-#include <icrkit/reconstruction/raw_and_filtered_meshes.hpp>
+#include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 #include <icrkit/sim/cad_objects.hpp>
 

@@ -6,7 +6,7 @@
 #include "argument_parsing.hpp"
 
 #include <icrkit/core/error.hpp>
-#include <icrkit/reconstruction/tum_folder_reader.hpp>
+#include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

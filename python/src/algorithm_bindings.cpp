@@ -10,7 +10,7 @@
 #include <icrkit/icr/patch_contacts.hpp>
 #include <icrkit/ndt/preselection.hpp>
 #include <icrkit/ndt/smoothing.hpp>
-#include <icrkit/reconstruction/ball_pivoting.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 
 #include <pybind11/numpy.h>

@@ -1,9 +1,9 @@
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
-#include <icrkit/reconstruction/raw_and_filtered_meshes.hpp>
+#include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
-#include <icrkit/reconstruction/scan_source.hpp>
+#include <icrkit/reconstruction/input/scan_source.hpp>
 
 #include <Eigen/Eigenvalues>
 

@@ -3,7 +3,7 @@
 // tests: an antialiased board texture warped by the plane's homography and
 // resampled through the exact inverse of the lens model.
 
-#include <icrkit/reconstruction/camera_calibration.hpp>
+#include <icrkit/reconstruction/calibration/camera_calibration.hpp>
 
 #include <Eigen/Geometry>
 #include <opencv2/calib3d.hpp>

@@ -2,7 +2,7 @@
 /// \file
 /// Range scans built in the test from a ray-cast function, with known answers.
 
-#include <icrkit/reconstruction/rawlog_reader.hpp>
+#include <icrkit/reconstruction/input/rawlog_reader.hpp>
 
 #include <functional>
 

@@ -1,4 +1,4 @@
-#include <icrkit/reconstruction/ball_pivoting.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
 
 #include "sampled_surfaces.hpp"
 

@@ -4,8 +4,8 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/pose.hpp>
-#include <icrkit/reconstruction/board_lattice_pose.hpp>
-#include <icrkit/reconstruction/rawlog_reader.hpp>
+#include <icrkit/reconstruction/calibration/board_lattice_pose.hpp>
+#include <icrkit/reconstruction/input/rawlog_reader.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-#include <icrkit/reconstruction/image_files.hpp>
-#include <icrkit/reconstruction/rawlog_intrinsics.hpp>
-#include <icrkit/reconstruction/rawlog_reader.hpp>
+#include <icrkit/reconstruction/input/image_files.hpp>
+#include <icrkit/reconstruction/input/rawlog_intrinsics.hpp>
+#include <icrkit/reconstruction/input/rawlog_reader.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/sim/dataset.hpp>

@@ -1,4 +1,4 @@
-#include <icrkit/reconstruction/camera_calibration.hpp>
+#include <icrkit/reconstruction/calibration/camera_calibration.hpp>
 
 #include <icrkit/core/error.hpp>
 

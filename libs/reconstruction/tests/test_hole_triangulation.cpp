@@ -1,4 +1,4 @@
-#include "hole_triangulation.hpp"
+#include "meshing/hole_triangulation.hpp"
 
 #include <Eigen/Geometry>
 

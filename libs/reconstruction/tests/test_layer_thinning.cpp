@@ -1,4 +1,4 @@
-#include "layer_thinning.hpp"
+#include "meshing/layer_thinning.hpp"
 
 #include <gtest/gtest.h>
 

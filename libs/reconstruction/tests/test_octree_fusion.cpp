@@ -9,7 +9,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/ray_caster.hpp>
-#include <icrkit/reconstruction/octree_fusion.hpp>
+#include <icrkit/reconstruction/fusion/octree_fusion.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "point_insertion.hpp"
+#include "meshing/point_insertion.hpp"
 
 #include <icrkit/core/mesh_topology.hpp>
 

@@ -1,7 +1,7 @@
 // Point-to-plane ICP: known motions of sampled surfaces, partial overlap,
 // and failure without overlap.
 
-#include <icrkit/reconstruction/point_to_plane_icp.hpp>
+#include <icrkit/reconstruction/registration/point_to_plane_icp.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_sampling.hpp>

@@ -1,4 +1,4 @@
-#include <icrkit/reconstruction/pose_graph.hpp>
+#include <icrkit/reconstruction/registration/pose_graph.hpp>
 
 #include <icrkit/core/error.hpp>
 

@@ -1,7 +1,7 @@
 // Variance component estimation: graphs whose edges carry noise of known
 // sigma, stated wrongly.
 
-#include <icrkit/reconstruction/pose_graph_variance.hpp>
+#include <icrkit/reconstruction/registration/pose_graph_variance.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // with a known answer, the fit on a simulated SR4000 recording whose
 // wiggling error is known, the model file, and bad input.
 
-#include <icrkit/reconstruction/range_calibration.hpp>
+#include <icrkit/reconstruction/calibration/range_calibration.hpp>
 
 #include "simulated_recordings.hpp"
 

@@ -10,7 +10,7 @@
 #include <icrkit/core/pose.hpp>
 #include <icrkit/core/pose_mrpt.hpp>
 #include <icrkit/core/ray_caster.hpp>
-#include <icrkit/reconstruction/rawlog_reader.hpp>
+#include <icrkit/reconstruction/input/rawlog_reader.hpp>
 #include <icrkit/sim/rawlog_writer.hpp>
 
 #include <gtest/gtest.h>

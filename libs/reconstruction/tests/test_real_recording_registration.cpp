@@ -4,7 +4,7 @@
 // axis and view), read from the rawlog as it is. Skipped without the data.
 
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
-#include <icrkit/reconstruction/trajectory_error.hpp>
+#include <icrkit/reconstruction/registration/trajectory_error.hpp>
 
 #include <icrkit/core/pose.hpp>
 

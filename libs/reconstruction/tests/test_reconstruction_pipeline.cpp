@@ -13,8 +13,8 @@
 #include <icrkit/core/mesh_distance.hpp>
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/pose.hpp>
-#include <icrkit/reconstruction/range_calibration.hpp>
-#include <icrkit/reconstruction/trajectory_error.hpp>
+#include <icrkit/reconstruction/calibration/range_calibration.hpp>
+#include <icrkit/reconstruction/registration/trajectory_error.hpp>
 #include <icrkit/sim/range_sensor.hpp>
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // Surface observability (Gelfand et al. stability) on shapes whose
 // unconstrained motions are known.
 
-#include "registration_observability.hpp"
+#include "registration/registration_observability.hpp"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
-#include <icrkit/reconstruction/scan_filters.hpp>
+#include <icrkit/reconstruction/input/scan_filters.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,14 +2,14 @@
 // known poses, and the ten Stanford bunny scans from perturbed bun.conf poses
 // (skipped when ../shared/data is absent).
 
-#include <icrkit/reconstruction/scan_sequence_registration.hpp>
+#include <icrkit/reconstruction/registration/scan_sequence_registration.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_distance.hpp>
 #include <icrkit/core/mesh_sampling.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
-#include <icrkit/reconstruction/ball_pivoting.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
 #include <icrkit/sim/cad_objects.hpp>
 
 #include <gtest/gtest.h>

@@ -8,9 +8,9 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/pose.hpp>
-#include <icrkit/reconstruction/rawlog_reader.hpp>
-#include <icrkit/reconstruction/scan_source.hpp>
-#include <icrkit/reconstruction/tum_folder_reader.hpp>
+#include <icrkit/reconstruction/input/rawlog_reader.hpp>
+#include <icrkit/reconstruction/input/scan_source.hpp>
+#include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 
 #include <gtest/gtest.h>
 

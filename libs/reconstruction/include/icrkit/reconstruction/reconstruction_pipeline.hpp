@@ -16,13 +16,13 @@
 #include <icrkit/core/triangle_mesh.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 #include <icrkit/ndt/smoothing.hpp>
-#include <icrkit/reconstruction/ball_pivoting.hpp>
-#include <icrkit/reconstruction/octree_fusion.hpp>
-#include <icrkit/reconstruction/range_calibration.hpp>
-#include <icrkit/reconstruction/board_lattice_pose.hpp>
-#include <icrkit/reconstruction/scan_filters.hpp>
-#include <icrkit/reconstruction/scan_source.hpp>
-#include <icrkit/reconstruction/scan_sequence_registration.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
+#include <icrkit/reconstruction/fusion/octree_fusion.hpp>
+#include <icrkit/reconstruction/calibration/range_calibration.hpp>
+#include <icrkit/reconstruction/calibration/board_lattice_pose.hpp>
+#include <icrkit/reconstruction/input/scan_filters.hpp>
+#include <icrkit/reconstruction/input/scan_source.hpp>
+#include <icrkit/reconstruction/registration/scan_sequence_registration.hpp>
 
 #include <Eigen/Geometry>
 

@@ -1,0 +1,294 @@
+#pragma once
+/// \file
+/// Multiway registration of a sequence of scans (docs/reconstruction.md):
+/// every scan paired with its best-overlapping partners (and its
+/// neighbours in the sequence, and the last with the first), each pair
+/// registered by 3D-NDT on coarse cells and finished by point-to-plane ICP
+/// at the sensor's noise scale, the pairs made the edges of a pose graph
+/// with the robot's reported poses as priors and its relative motions as
+/// odometry (solved with CHOLMOD, pose_graph.hpp), the robot's precision
+/// measured on the data (variance components, pose_graph_variance.hpp),
+/// then pairs chosen and registered again at the graph's poses, a few
+/// rounds. Optionally each scan is first registered against the model of
+/// the scans before it (the paper's scan-to-model pass).
+///
+/// Streaming: a scan is handed over once; what is kept is the model (cube
+/// centroids) and each scan reduced to 2 mm cube centroids (a few thousand
+/// points), a fraction of the fused cloud.
+
+#include <icrkit/core/point_cloud.hpp>
+#include <icrkit/ndt/ndt_registration.hpp>
+#include <icrkit/reconstruction/registration/point_to_plane_icp.hpp>
+#include <icrkit/reconstruction/registration/pose_graph.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <optional>
+#include <vector>
+
+namespace icrkit::reconstruction {
+
+struct SequenceRegistrationParameters {
+  /// Scan-to-model and loop-closure NDT. The defaults (4/2/1 cm cells,
+  /// sources reduced to 2 mm cube centroids) suit objects of 5-30 cm
+  /// scanned at 1-3 mm spacing.
+  ndt::NdtParameters ndt = [] {
+    ndt::NdtParameters p;
+    p.resolutions = {0.04, 0.02, 0.01, 0.005};
+    p.source_voxel_size = 0.002;
+    return p;
+  }();
+  /// NDT cells finer than this many times the first scan's median point
+  /// spacing are dropped from `ndt.resolutions` (a 176 x 144 ToF camera
+  /// gives 2-3 mm spacing, too sparse for 5 mm cells). 0: keep all.
+  double min_resolution_spacing_factor = 3.5;
+  /// Each scan is kept for the pair-wise stage as the centroids of its
+  /// points in cubes of this edge (metres); <= 0: every point.
+  double kept_voxel_size = 0.001;
+  /// The model is kept as the centroids of the registered points in cubes
+  /// of this edge (metres): its size then follows the object's surface
+  /// area, not the number of scans.
+  double model_voxel_size = 0.0015;
+  /// The sequential pass: each scan registered (NDT) against the model of
+  /// the scans before it, the starting poses of the pair-wise stage. false:
+  /// the pairs start from the reported poses (their NDT stage has the same
+  /// basin), in parallel. Off by default: on the real PrimeSense bunny and
+  /// the simulated sets the multiway rounds end at the same poses either
+  /// way, and the sequential pass is a third of the time.
+  bool scan_to_model = false;
+  /// Each scan starts from its reported pose corrected by the previous
+  /// scan's correction (arm drift and hand-eye errors change slowly).
+  bool propagate_correction = true;
+  /// A registration is rejected (the scan keeps its starting pose, stays out
+  /// of the model and gets a weak edge) when it moves the scan's points (at
+  /// their centroid) or turns them further than these from the reported
+  /// pose (metres, radians) ...
+  double max_correction_translation = 0.03;
+  double max_correction_rotation = 0.25;
+  /// ... or ends with a normalised NDT score below this (0: no point near a
+  /// Gaussian, ~1: every point on its cell's mean; partial overlap lowers it).
+  double min_normalized_score = 0.15;
+  /// Degeneracy: a registration's correction is kept only along the
+  /// directions its NDT Hessian constrains (eigenvalue at least this
+  /// fraction of the largest, rotations scaled by the points' radius); the
+  /// rest comes from the reported pose. A cup or a bottle on a turntable
+  /// does not show its rotation about its own axis. 0: keep everything.
+  double degeneracy_ratio = 0.05;
+  /// Pose graph edges of pair-wise registrations carry the NDT Hessian as
+  /// their information (scaled so that the best-constrained translation has
+  /// `registration_sigma_translation`): unobserved directions are then left
+  /// to the priors. false: a diagonal information from the two sigmas.
+  bool hessian_information = true;
+  /// Pairwise refinement after the sequential pass: every pair of scans
+  /// whose points share at least this fraction of 1 cm cubes (of the
+  /// smaller scan, at the scan-to-model poses) is registered pair-wise, up
+  /// to `max_partners` best-overlapping partners per scan; the pairs become
+  /// the pose graph's edges. Sequential scan-to-model registration leaves a
+  /// slow drift around a closed circle; the pairs (the last/first pair among
+  /// them: the loop closure) spread it.
+  double min_pair_overlap = 0.3;
+  int max_partners = 4;
+  /// Always register consecutive scans as pairs, whatever their overlap at
+  /// the current poses (from poses a centimetre off, overlap is
+  /// underestimated; a robot moves between consecutive views little).
+  bool sequence_pairs = true;
+  /// Always try the last scan against the first (turntable, closed circle).
+  bool loop_closure = true;
+  /// Standard deviations of an accepted registration's relative pose
+  /// (metres, radians): the information of the pose graph's edges.
+  double registration_sigma_translation = 0.0005;
+  double registration_sigma_rotation = 0.002;
+  /// Standard deviations of the reported poses, used as priors that place
+  /// the registered model in the robot's frame (a least-squares fit to all
+  /// reported poses rather than trusting the first). <= 0: no priors, the
+  /// first scan is held at its reported pose instead.
+  double prior_sigma_translation = 0.005;
+  double prior_sigma_rotation = 0.01;
+  /// Standard deviations of the robot's motion between consecutive scans
+  /// (metres, radians): a robot arm or turntable repeats relative motions
+  /// far better than it knows its absolute pose (hand-eye and mounting
+  /// errors are constant). Edges between consecutive reported poses. <= 0:
+  /// none.
+  double odometry_sigma_translation = 0.0005;
+  double odometry_sigma_rotation = 0.001;
+  /// Fine stage of every pair: point-to-plane ICP (point_to_plane_icp.hpp)
+  /// after the pair's NDT, against the target scan's `kept_voxel_size`
+  /// points and their tangent planes, from the source reduced to cubes of
+  /// `icp_source_voxel_size` (metres). An NDT cell of 5 mm or more models a
+  /// curved surface too coarsely for the sensor's ~1 mm noise. false: NDT only.
+  bool icp_refinement = true;
+  PointToPlaneIcpParameters icp;
+  /// The `icp` distances suit scans up to this point spacing (metres); a
+  /// first scan spaced more sparsely scales them (and the kernel) by its
+  /// spacing over this. <= 0: never scaled.
+  double icp_spacing_reference = 0.0015;
+  double icp_source_voxel_size = 0.0025;
+  /// ... and at most this many of them (an even stride): precision grows
+  /// with the square root of the count, the cost linearly.
+  std::size_t icp_max_source_points = 1200;
+  /// First round: the pairs start from the robot's poses, a centimetre or
+  /// more apart. true: 3D-NDT on coarse cells brings them within the ICP's
+  /// reach; false: the ICP starts with these wider pairing distances
+  /// (metres) before its own.
+  bool pair_ndt = true;
+  std::vector<double> icp_wide_distances{0.02, 0.01};
+  /// With the ICP after it, a pair's NDT only has to reach the ICP's basin:
+  /// its source is reduced to cubes of this edge (metres).
+  double pair_ndt_source_voxel_size = 0.005;
+  /// With the ICP after it, the NDT (scan-to-model and pairs) stops at its
+  /// cells of at least this edge (metres): its finer cells cost most of its
+  /// time and the ICP does their work better.
+  double icp_coarsest_finish = 0.01;
+  /// A pair whose ICP matches fewer than this fraction of the source's
+  /// points (weighted) is rejected: the views hardly overlap.
+  double min_icp_inlier_fraction = 0.15;
+  /// Multiway rounds: after the pose graph is solved the pairs are chosen
+  /// again at the new poses (views that now overlap become partners) and
+  /// registered again from the graph's relative poses (ICP only), and the
+  /// graph is solved again. 1: a single round.
+  int refinement_rounds = 3;
+  /// The robot's relative motions are only as good as the data says: the
+  /// consecutive pairs' registered relative poses measure the odometry's
+  /// error (robust spread per axis), and the odometry edges get
+  /// max(`odometry_sigma_*`, measured) as their sigma; a per-view
+  /// independent error (a mobile manipulator, 3 mm / 0.5 deg per view)
+  /// then leaves the odometry weak instead of pulling every scan back to
+  /// where the robot reported it. The reported-pose priors likewise get at
+  /// least the measured per-view error (the odometry's / sqrt 2). false:
+  /// trust the stated sigmas.
+  bool estimate_robot_precision = true;
+  /// Rounds of re-estimating the pairs' precision from their residuals
+  /// (variance component estimation against the odometry and priors; the
+  /// pairs are only ever weakened); 0: trust `registration_sigma_*`.
+  int variance_rounds = 10;
+  /// Robust kernel etc. of the final optimisation; registration and loop
+  /// closure edges are robust, priors and odometry are not.
+  PoseGraphParameters graph = [] {
+    PoseGraphParameters p;
+    p.kernel = RobustKernel::Cauchy;
+    return p;
+  }();
+};
+
+/// An absolute measurement of a scan's pose besides the robot's report (the
+/// camera pose relative to a checkerboard under the object): one more prior
+/// edge in the pose graph, with its own standard deviations.
+struct PosePrior {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< scan -> model frame
+  double sigma_translation = 0.002;                        ///< metres
+  double sigma_rotation = 0.004;                           ///< radians
+};
+
+/// What happened to one scan.
+struct ScanRegistrationRecord {
+  std::size_t index = 0;
+  std::size_t points = 0;                                          ///< handed over
+  Eigen::Isometry3d initial_pose = Eigen::Isometry3d::Identity();  ///< reported
+  Eigen::Isometry3d start_pose = Eigen::Isometry3d::Identity();    ///< NDT's initial guess
+  Eigen::Isometry3d model_pose = Eigen::Isometry3d::Identity();    ///< after scan-to-model
+  bool registered = false;  ///< false for the first scan and for rejected registrations
+  std::string rejection;    ///< why a registration was rejected; empty otherwise
+  double normalized_score = 0.0;
+  std::vector<int> iterations;
+  bool converged = false;
+  int degenerate_directions = 0;          ///< unobserved directions left at the start pose
+  double weakest_direction_ratio = 1.0;   ///< smallest / largest scaled Hessian eigenvalue
+  double correction_translation_m = 0.0;  ///< model_pose vs initial_pose
+  double correction_rotation_rad = 0.0;
+  std::size_t model_points = 0;  ///< model size the scan was registered against
+  double time_ms = 0.0;
+};
+
+struct LoopClosureRecord {
+  bool attempted = false;
+  bool accepted = false;
+  std::string rejection;
+  std::size_t from = 0, to = 0;  ///< first and last scan
+  double normalized_score = 0.0;
+  /// How far the loop closure's relative pose is from the one implied by
+  /// the scan-to-model poses (the drift it corrects).
+  double discrepancy_translation_m = 0.0;
+  double discrepancy_rotation_rad = 0.0;
+};
+
+struct PairRegistrationRecord {
+  std::size_t from = 0, to = 0;  ///< target scan, source scan
+  double overlap = 0.0;          ///< shared 1 cm cubes / cubes of the smaller scan
+  bool accepted = false;
+  std::string rejection;
+  double normalized_score = 0.0;
+  int degenerate_directions = 0;
+  double weakest_direction_ratio = 1.0;  ///< smallest / largest scaled Hessian eigenvalue
+  /// The fine stage (when `icp_refinement`): weighted inlier fraction of
+  /// the source and RMS residual along the normals (metres).
+  double icp_inlier_fraction = 0.0;
+  double icp_rms_m = 0.0;
+  int round = 0;  ///< multiway round of this registration (0-based)
+  /// The registered pose of scan `to` in scan `from`'s frame (when accepted).
+  Eigen::Isometry3d measurement = Eigen::Isometry3d::Identity();
+  /// How far the pair's relative pose is from the scan-to-model poses'.
+  double discrepancy_translation_m = 0.0;
+  double discrepancy_rotation_rad = 0.0;
+};
+
+struct SequenceRegistrationResult {
+  std::vector<Eigen::Isometry3d> poses;  ///< final, scan -> model frame, in input order
+  std::vector<ScanRegistrationRecord> scans;
+  LoopClosureRecord loop_closure;
+  std::vector<PairRegistrationRecord> pairs;
+  PoseGraphReport graph;
+  std::size_t model_points = 0;  ///< final model size (voxel centroids)
+  std::vector<double> resolutions;  ///< the NDT cell sizes used (metres)
+  /// The sigmas the robot's odometry edges and reported-pose priors were
+  /// given (stated or measured, see `estimate_robot_precision`).
+  double odometry_sigma_translation_m = 0.0, odometry_sigma_rotation_rad = 0.0;
+  double prior_sigma_translation_m = 0.0, prior_sigma_rotation_rad = 0.0;
+  /// The robot's relative-motion error as measured by the consecutive
+  /// pairs (robust sigma per axis; 0 when too few pairs).
+  double measured_odometry_sigma_translation_m = 0.0, measured_odometry_sigma_rotation_rad = 0.0;
+  int refinement_rounds = 0;  ///< multiway rounds run
+  /// The pairs' variance as estimated from their residuals, relative to
+  /// `registration_sigma_*` (>= 1: less precise than stated).
+  double pair_variance_factor = 1.0;
+  double first_scan_spacing_m = 0.0;  ///< median nearest-neighbour spacing of the first scan
+  double time_ms = 0.0;          ///< registrations, loop closure and graph
+};
+
+class SequenceRegistration {
+public:
+  /// Throws InputError for parameters out of range.
+  explicit SequenceRegistration(const SequenceRegistrationParameters& params = {});
+  ~SequenceRegistration();
+  SequenceRegistration(const SequenceRegistration&) = delete;
+  SequenceRegistration& operator=(const SequenceRegistration&) = delete;
+
+  /// Registers the next scan: `points` in the scan's own frame,
+  /// `initial_pose` its reported pose (scan -> model frame), `prior` an
+  /// optional independent measurement of its pose (a prior edge even when
+  /// the reported poses give none). Throws InputError naming the scan for an
+  /// empty cloud, a non-finite coordinate, a non-finite pose or a prior
+  /// sigma <= 0. NDT failures are not errors: the scan is recorded as
+  /// rejected.
+  const ScanRegistrationRecord& add(const PointCloud& points, const Eigen::Isometry3d& initial_pose,
+                                    const std::optional<PosePrior>& prior = std::nullopt);
+
+  std::size_t size() const;
+
+  /// Loop closure and pose graph; the object cannot be used afterwards.
+  /// Throws InputError when no scan was added.
+  SequenceRegistrationResult finish();
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Convenience: every scan at once.
+SequenceRegistrationResult registerScanSequence(const std::vector<PointCloud>& scans,
+                                                const std::vector<Eigen::Isometry3d>& initial_poses,
+                                                const SequenceRegistrationParameters& params = {});
+
+}  // namespace icrkit::reconstruction

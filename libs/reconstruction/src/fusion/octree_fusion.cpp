@@ -1,0 +1,219 @@
+/// \file
+/// OctoMap used directly (not through MRPT's COctoMap, which passes its
+/// `pruning` flag on as OctoMap's lazy_eval and so leaves inner nodes stale).
+
+#include <icrkit/reconstruction/fusion/octree_fusion.hpp>
+
+#include <icrkit/core/error.hpp>
+
+#include <octomap/OcTree.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace icrkit::reconstruction {
+
+struct OctreeFusion::Impl {
+  explicit Impl(const OctreeFusionParameters& p) : params(p), tree(p.resolution) {}
+
+  OctreeFusionParameters params;
+  octomap::OcTree tree;
+  bool finished = false;
+  double time_ms = 0.0;
+  OctreeFusionReport report;
+  // The candidates seen so far, in insertion order: the fused model.
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::int32_t> views;
+  std::vector<std::uint32_t> pixels;
+  std::vector<std::uint32_t> origins;  // index into `viewpoints`, one per scan
+  std::vector<Eigen::Vector3d> viewpoints;
+};
+
+namespace {
+
+octomap::point3d toOcto(const Eigen::Vector3d& v) {
+  return octomap::point3d(static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()));
+}
+
+// Clips the segment o..end to `box` (slab method); false when it misses.
+bool clipToBox(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& o, const Eigen::Vector3d& end, double& t0,
+               double& t1) {
+  t0 = 0.0;
+  t1 = 1.0;
+  const Eigen::Vector3d d = end - o;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(d[a]) < 1e-12) {
+      if (o[a] < box.min()[a] || o[a] > box.max()[a]) return false;
+      continue;
+    }
+    double ta = (box.min()[a] - o[a]) / d[a], tb = (box.max()[a] - o[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+OctreeFusion::OctreeFusion(const OctreeFusionParameters& params) {
+  if (!(params.resolution > 0) || !std::isfinite(params.resolution))
+    throw InputError("resolution", "", "must be a positive number of metres");
+  for (double p : {params.prob_hit, params.prob_miss, params.occupancy_threshold, params.clamping_min,
+                   params.clamping_max})
+    if (!(p > 0 && p < 1)) throw InputError("octree probabilities", "", "must lie in (0, 1)");
+  impl_ = std::make_unique<Impl>(params);
+  octomap::OcTree& tree = impl_->tree;
+  tree.setProbHit(params.prob_hit);
+  tree.setProbMiss(params.prob_miss);
+  tree.setClampingThresMin(params.clamping_min);
+  tree.setClampingThresMax(params.clamping_max);
+  tree.setOccupancyThres(params.occupancy_threshold);
+}
+
+OctreeFusion::~OctreeFusion() = default;
+
+void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>& candidate) {
+  if (impl_->finished) throw std::logic_error("OctreeFusion::insert after finish()");
+  if (!candidate.empty() && candidate.size() != scan.points.size())
+    throw InputError("scan " + std::to_string(scan.index), "",
+                     "candidate mask has " + std::to_string(candidate.size()) + " flags for " +
+                         std::to_string(scan.points.size()) + " points");
+  const auto start = std::chrono::steady_clock::now();
+  Impl& s = *impl_;
+  const OctreeFusionParameters& params = s.params;
+  octomap::OcTree& tree = s.tree;
+  const bool bounded = !params.bounds.isEmpty();
+  const Eigen::Vector3d o = scan.sensor_pose.translation();
+  const double max_range = params.max_range > 0 ? params.max_range : scan.max_range;
+
+  // The update is OctoMap's insertPointCloud (one update per voxel and
+  // scan, a voxel both hit and crossed counts as hit), with the rays clipped
+  // to `bounds` here: OctoMap's own BBX limit walks each ray back from its
+  // end point and stops at the box, so a ray ending outside the box (on the
+  // table, the background) would carve nothing inside it, and those are
+  // exactly the rays that see through the space around the object.
+  octomap::KeyRay ray;
+  octomap::KeySet free_keys, hit_keys;
+  for (const Eigen::Vector3d& p : scan.points) {
+    Eigen::Vector3d end = p;
+    bool hit = true;
+    const double length = (p - o).norm();
+    if (max_range > 0 && length > max_range) {
+      end = o + (p - o) * (max_range / length);
+      hit = false;
+    }
+    if (bounded && !params.bounds.contains(end)) hit = false;
+    octomap::OcTreeKey key;
+    if (hit && tree.coordToKeyChecked(toOcto(end), key)) hit_keys.insert(key);
+    double t0 = 0.0, t1 = 1.0;
+    if (bounded && !clipToBox(params.bounds, o, end, t0, t1)) continue;
+    if (tree.computeRayKeys(toOcto(o + t0 * (end - o)), toOcto(o + t1 * (end - o)), ray))
+      free_keys.insert(ray.begin(), ray.end());
+  }
+  // Inner nodes are brought up to date once at the end (OctoMap's
+  // documented use of lazy evaluation); leaves are exact after every scan.
+  for (const octomap::OcTreeKey& key : free_keys)
+    if (hit_keys.find(key) == hit_keys.end()) tree.updateNode(key, false, true);
+  for (const octomap::OcTreeKey& key : hit_keys) tree.updateNode(key, true, true);
+
+  const std::uint32_t origin = static_cast<std::uint32_t>(s.viewpoints.size());
+  s.viewpoints.push_back(o);
+  std::size_t candidates = 0;
+  for (std::size_t k = 0; k < scan.points.size(); ++k) {
+    if (!candidate.empty() && !candidate[k]) continue;
+    ++candidates;
+    const Eigen::Vector3d& p = scan.points[k];
+    if ((bounded && !params.bounds.contains(p)) || (max_range > 0 && (p - o).norm() > max_range)) {
+      ++s.report.dropped_outside;
+      continue;
+    }
+    s.points.push_back(p);
+    s.views.push_back(static_cast<std::int32_t>(scan.index));
+    s.pixels.push_back(k < scan.pixels.size() ? scan.pixels[k] : 0u);
+    s.origins.push_back(origin);
+  }
+  s.report.points_in += candidates;
+  ++s.report.scans;
+  s.time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+OctreeFusionResult OctreeFusion::finish() {
+  if (impl_->finished) throw std::logic_error("OctreeFusion::finish called twice");
+  const auto start = std::chrono::steady_clock::now();
+  Impl& s = *impl_;
+  s.finished = true;
+  octomap::OcTree& tree = s.tree;
+  tree.updateInnerOccupancy();
+
+  OctreeFusionResult result;
+  OctreeFusionReport& report = result.report;
+  report = s.report;
+  report.kept_per_scan.assign(s.viewpoints.size(), 0);
+  PointCloud& out = result.points;
+  std::vector<double> view, pixel, vx, vy, vz;
+  for (std::size_t k = 0; k < s.points.size(); ++k) {
+    const Eigen::Vector3d& p = s.points[k];
+    const octomap::OcTreeNode* node =
+        tree.search(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    if (node == nullptr) {
+      ++report.dropped_outside;
+      continue;
+    }
+    if (!tree.isNodeOccupied(node)) {
+      ++report.dropped_free;
+      continue;
+    }
+    const Eigen::Vector3d& o = s.viewpoints[s.origins[k]];
+    out.positions.push_back(p);
+    view.push_back(static_cast<double>(s.views[k]));
+    pixel.push_back(static_cast<double>(s.pixels[k]));
+    vx.push_back(o.x());
+    vy.push_back(o.y());
+    vz.push_back(o.z());
+    ++report.kept_per_scan[s.origins[k]];
+  }
+  report.kept = out.positions.size();
+  out.attributes.add("view", ScalarType::Int32, std::move(view));
+  out.attributes.add("pixel", ScalarType::UInt32, std::move(pixel));
+  out.attributes.add("viewpoint_x", ScalarType::Float64, std::move(vx));
+  out.attributes.add("viewpoint_y", ScalarType::Float64, std::move(vy));
+  out.attributes.add("viewpoint_z", ScalarType::Float64, std::move(vz));
+
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    ++report.leaves;
+    report.occupied_leaves += tree.isNodeOccupied(*it);
+  }
+  // Release the model and the octree now rather than with the object.
+  s.points = {};
+  s.views = {};
+  s.pixels = {};
+  s.origins = {};
+  s.tree.clear();
+  report.time_ms = s.time_ms + std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+OctreeFusionResult fuseScans(const std::vector<RangeScan>& scans, const OctreeFusionParameters& params) {
+  OctreeFusion fusion(params);
+  for (const RangeScan& scan : scans) fusion.insert(scan);
+  return fusion.finish();
+}
+
+std::vector<Eigen::Vector3d> fusionViewpoints(const PointCloud& cloud) {
+  const AttributeSet& a = cloud.attributes;
+  if (!a.has("viewpoint_x") || !a.has("viewpoint_y") || !a.has("viewpoint_z")) return {};
+  const auto& vx = a.get("viewpoint_x").values;
+  const auto& vy = a.get("viewpoint_y").values;
+  const auto& vz = a.get("viewpoint_z").values;
+  std::vector<Eigen::Vector3d> viewpoints;
+  viewpoints.reserve(cloud.positions.size());
+  for (std::size_t i = 0; i < cloud.positions.size(); ++i) viewpoints.emplace_back(vx[i], vy[i], vz[i]);
+  return viewpoints;
+}
+
+}  // namespace icrkit::reconstruction

@@ -1,0 +1,772 @@
+#include <icrkit/reconstruction/registration/scan_sequence_registration.hpp>
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/kd_tree.hpp>
+#include <icrkit/ndt/normal_estimation.hpp>
+
+#include <icrkit/reconstruction/registration/pose_graph_variance.hpp>
+
+#include "cube_key.hpp"
+#include "registration_observability.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+namespace icrkit::reconstruction {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+double rotationAngle(const Eigen::Isometry3d& t) { return Eigen::AngleAxisd(t.rotation()).angle(); }
+
+bool finitePose(const Eigen::Isometry3d& t) { return t.matrix().allFinite(); }
+
+PointCloud positionsOnly(const std::vector<Eigen::Vector3d>& points) {
+  PointCloud cloud;
+  cloud.positions = points;
+  return cloud;
+}
+
+// Unit normals of a scan's points (scan frame), or none for too few points.
+// Neither the point-to-plane residual nor the observability depends on a
+// normal's sign: facing them to the sensor (the frame's origin) costs
+// nothing, orienting them over a neighbour graph a third of their time.
+std::optional<std::vector<Eigen::Vector3d>> tangentNormals(const std::vector<Eigen::Vector3d>& points) {
+  PointCloud cloud = positionsOnly(points);
+  ndt::NormalEstimationParameters facing;
+  facing.viewpoint = Eigen::Vector3d::Zero();
+  try {
+    ndt::estimateNormals(cloud, facing);
+  } catch (const InputError&) {
+    return std::nullopt;
+  }
+  return std::move(cloud.normals);
+}
+
+// Centroids of the model's points per cube. An ordered map: the target is
+// built from the centroids in key order, so the model does not depend on
+// hash-table layout.
+class VoxelModel {
+public:
+  explicit VoxelModel(double size) : size_(size) {}
+
+  void add(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose) {
+    for (const Eigen::Vector3d& local : points) {
+      const Eigen::Vector3d p = pose * local;
+      Cell& cell = cells_[cubeKey(p, size_)];
+      cell.sum += p;
+      ++cell.count;
+    }
+  }
+
+  std::size_t size() const { return cells_.size(); }
+
+  PointCloud centroids() const {
+    PointCloud cloud;
+    cloud.positions.reserve(cells_.size());
+    for (const auto& [key, cell] : cells_) cloud.positions.push_back(cell.sum / double(cell.count));
+    return cloud;
+  }
+
+private:
+  struct Cell {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int count = 0;
+  };
+  double size_;
+  std::map<std::int64_t, Cell> cells_;
+};
+
+// Where a scan, placed by `pose`, constrains a registration (surface
+// stability of its points and normals, scan frame).
+Observability scanObservability(const std::vector<Eigen::Vector3d>& points,
+                                const std::vector<Eigen::Vector3d>& normals, const Eigen::Isometry3d& pose,
+                                double ratio) {
+  std::vector<Eigen::Vector3d> p(points.size()), n(normals.size());
+  for (std::size_t i = 0; i < points.size(); ++i) p[i] = pose * points[i];
+  for (std::size_t i = 0; i < normals.size(); ++i) n[i] = pose.linear() * normals[i];
+  return surfaceObservability(p, n, std::max(ratio, 0.0));
+}
+
+// Keeps the registration's correction of `start` only where it is observed.
+void remapDegenerate(ndt::NdtResult& r, const Eigen::Isometry3d& start, const Observability& o) {
+  if (o.degenerate_directions > 0)
+    r.pose = smallMotionExp(o.projector * smallMotionLog(r.pose * start.inverse())) * start;
+}
+
+// The largest eigenvalue of the Hessian's translation block: how strongly a
+// registration constrains its best-determined translation.
+double translationStiffness(const Matrix6d& hessian) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (hessian.topLeftCorner<3, 3>() +
+                                                                    hessian.topLeftCorner<3, 3>().transpose()));
+  return eigen.eigenvalues()(2);
+}
+
+// The information of a pair edge (right perturbation of `measurement`, the
+// pose graph's convention) from the NDT Hessian (left perturbation in the
+// target frame), scaled by `scale`.
+Matrix6d hessianInformation(const Matrix6d& hessian, const Matrix6d& projector, const Eigen::Isometry3d& measurement,
+                            double scale) {
+  // Nothing is known along the unobserved directions: the projected
+  // Hessian has no information there.
+  const Matrix6d projected = projector.transpose() * hessian * projector;
+  const Matrix6d h = 0.5 * (projected + projected.transpose());
+  if (!(scale > 0) || !h.allFinite()) return Matrix6d::Identity();
+  // The Hessian is semi-definite at best; a floor of 1 m / 1 rad keeps the
+  // information definite without constraining anything.
+  Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(h * scale);
+  const Matrix6d left =
+      eigen.eigenvectors() * (eigen.eigenvalues().cwiseMax(0.0).array() + 1.0).matrix().asDiagonal() *
+      eigen.eigenvectors().transpose();
+  const Matrix6d ad = adjoint(measurement);
+  const Matrix6d right = ad.transpose() * left * ad;
+  return 0.5 * (right + right.transpose());
+}
+
+void validate(const SequenceRegistrationParameters& p) {
+  auto positive = [](double v, const char* name) {
+    if (!(v > 0) || !std::isfinite(v)) throw InputError(name, "", "expected a positive number");
+  };
+  positive(p.model_voxel_size, "model_voxel_size");
+  positive(p.max_correction_translation, "max_correction_translation");
+  positive(p.max_correction_rotation, "max_correction_rotation");
+  positive(p.registration_sigma_translation, "registration_sigma_translation");
+  positive(p.registration_sigma_rotation, "registration_sigma_rotation");
+  if (!std::isfinite(p.min_normalized_score)) throw InputError("min_normalized_score", "", "expected a number");
+  if ((p.prior_sigma_translation > 0) != (p.prior_sigma_rotation > 0))
+    throw InputError("prior_sigma_translation / prior_sigma_rotation", "", "set both (> 0) or neither");
+  if (p.ndt.resolutions.empty()) throw InputError("ndt.resolutions", "", "expected at least one resolution");
+}
+
+}  // namespace
+
+struct SequenceRegistration::Impl {
+  explicit Impl(const SequenceRegistrationParameters& p) : params(p), model(p.model_voxel_size) {}
+
+  SequenceRegistrationParameters params;
+  VoxelModel model;
+  std::optional<ndt::NdtTarget> target;  // the model as of the last accepted scan
+  std::vector<ScanRegistrationRecord> records;
+  std::vector<std::optional<PosePrior>> priors;  // per scan, besides the reported pose
+  std::vector<std::vector<Eigen::Vector3d>> reduced;  // every scan, kept_voxel_size centroids, its own frame
+  std::vector<std::vector<Eigen::Vector3d>> normals;  // of `reduced` (unoriented), for the observability
+  Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();  // latest model_pose * initial_pose^-1
+  double time_ms = 0.0;
+  bool finished = false;
+
+  std::vector<Eigen::Vector3d> reduce(const PointCloud& cloud) const {
+    // The NDT reduces its source to cube centroids itself; reducing once
+    // here also bounds what is kept for the loop closure.
+    if (params.kept_voxel_size <= 0) return cloud.positions;
+    VoxelModel cubes(params.kept_voxel_size);
+    cubes.add(cloud.positions, Eigen::Isometry3d::Identity());
+    return cubes.centroids().positions;
+  }
+
+  // The NDT of the scan-to-model pass and of the pairs: with the ICP's
+  // fine stage after it, only its cells of at least
+  // `icp_coarsest_finish` (the ICP finishes from there).
+  ndt::NdtParameters coarseNdt() const {
+    ndt::NdtParameters ndt = params.ndt;
+    if (!params.icp_refinement) return ndt;
+    std::vector<double> kept;
+    for (double r : ndt.resolutions)
+      if (r >= params.icp_coarsest_finish) kept.push_back(r);
+    if (kept.empty()) kept.push_back(ndt.resolutions.front());
+    ndt.resolutions = kept;
+    return ndt;
+  }
+
+  double first_spacing = 0.0;
+  void adaptResolutions(const std::vector<Eigen::Vector3d>& points) {
+    first_spacing = nearestNeighbourSpacing(points).median;
+    // The ICP's pairing distances and kernel are a depth camera's at arm's
+    // length (~1 mm spacing and noise); a sparser, noisier camera (a
+    // 176 x 144 ToF sensor: 2-3 mm) gets them scaled with its spacing.
+    if (params.icp_spacing_reference > 0 && first_spacing > params.icp_spacing_reference) {
+      const double scale = first_spacing / params.icp_spacing_reference;
+      for (double& d : params.icp.max_distances) d *= scale;
+      params.icp.kernel_width *= scale;
+    }
+    if (!(params.min_resolution_spacing_factor > 0) || !(first_spacing > 0)) return;
+    std::vector<double> kept;
+    for (double r : params.ndt.resolutions)
+      if (r >= params.min_resolution_spacing_factor * first_spacing) kept.push_back(r);
+    if (kept.empty()) kept.push_back(params.ndt.resolutions.front());
+    params.ndt.resolutions = kept;
+  }
+
+  std::vector<Eigen::Vector3d> surfaceNormals(const std::vector<Eigen::Vector3d>& points) const {
+    if (!(params.degeneracy_ratio > 0)) return {};
+    // Too few points: nothing observed.
+    return tangentNormals(points).value_or(std::vector<Eigen::Vector3d>(points.size(), Eigen::Vector3d::Zero()));
+  }
+
+  // Why a registration result is not used, or empty when it is. The move
+  // from `reference` is measured where it matters, at the source points'
+  // centroid (a scan frame's origin is the sensor, ~0.7 m away, where a
+  // small rotation alone is a large translation).
+  std::string judge(const ndt::NdtResult& r, const Eigen::Isometry3d& reference,
+                    const std::vector<Eigen::Vector3d>& source, const char* what) const {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : source) centroid += p;
+    if (!source.empty()) centroid /= double(source.size());
+    const double shift = (r.pose * centroid - reference * centroid).norm();
+    const double angle = rotationAngle(r.pose * reference.inverse());
+    if (shift > params.max_correction_translation)
+      return "moved the points " + std::to_string(shift * 1e3) + " mm from " + what + " (limit " +
+             std::to_string(params.max_correction_translation * 1e3) + " mm)";
+    if (angle > params.max_correction_rotation)
+      return "rotated " + std::to_string(angle * 180 / M_PI) + " deg from " + what + " (limit " +
+             std::to_string(params.max_correction_rotation * 180 / M_PI) + " deg)";
+    if (r.normalized_score < params.min_normalized_score)
+      return "normalised NDT score " + std::to_string(r.normalized_score) + " below " +
+             std::to_string(params.min_normalized_score);
+    return {};
+  }
+};
+
+SequenceRegistration::SequenceRegistration(const SequenceRegistrationParameters& params) {
+  validate(params);
+  impl_ = std::make_unique<Impl>(params);
+}
+
+SequenceRegistration::~SequenceRegistration() = default;
+
+std::size_t SequenceRegistration::size() const { return impl_->records.size(); }
+
+const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points, const Eigen::Isometry3d& initial_pose,
+                                                        const std::optional<PosePrior>& prior) {
+  Impl& s = *impl_;
+  if (s.finished) throw std::logic_error("SequenceRegistration::add after finish()");
+  const auto start = Clock::now();
+  const std::size_t index = s.records.size();
+  const std::string where = "scan " + std::to_string(index);
+  if (points.positions.empty()) throw InputError(where, "", "no points to register (everything was filtered out?)");
+  for (std::size_t i = 0; i < points.positions.size(); ++i)
+    if (!points.positions[i].allFinite())
+      throw InputError(where, "point " + std::to_string(i), "non-finite coordinate");
+  if (!finitePose(initial_pose)) throw InputError(where, "", "non-finite initial pose");
+  if (prior && (!finitePose(prior->pose) || !(prior->sigma_translation > 0) || !(prior->sigma_rotation > 0) ||
+                !std::isfinite(prior->sigma_translation) || !std::isfinite(prior->sigma_rotation)))
+    throw InputError(where, "", "expected a finite prior pose with standard deviations > 0");
+
+  ScanRegistrationRecord record;
+  record.index = index;
+  record.points = points.positions.size();
+  record.initial_pose = initial_pose;
+  record.start_pose = s.params.propagate_correction ? s.correction * initial_pose : initial_pose;
+  record.model_pose = record.start_pose;
+  if (index == 0) s.adaptResolutions(points.positions);
+  std::vector<Eigen::Vector3d> reduced = s.reduce(points);
+  // Only the scan-to-model pass needs them now; finish() estimates the
+  // others for all scans at once, in parallel.
+  std::vector<Eigen::Vector3d> normals;
+  if (s.params.scan_to_model) normals = s.surfaceNormals(reduced);
+
+  if (index == 0 || !s.params.scan_to_model) {
+    record.model_pose = initial_pose;
+    record.start_pose = initial_pose;
+    if (index > 0) record.rejection = "scan-to-model registration is off";
+  } else if (!s.target) {
+    record.rejection = "no model to register against (every earlier scan was rejected)";
+  } else {
+    record.model_points = s.target->size();
+    const ndt::NdtParameters ndt = s.coarseNdt();
+    try {
+      ndt::NdtResult r = ndt::registerNdt(positionsOnly(reduced), *s.target, record.start_pose, ndt);
+      const Observability o = scanObservability(reduced, normals, record.start_pose, s.params.degeneracy_ratio);
+      if (s.params.degeneracy_ratio > 0) remapDegenerate(r, record.start_pose, o);
+      record.degenerate_directions = o.degenerate_directions;
+      record.weakest_direction_ratio = o.weakest_ratio;
+      record.normalized_score = r.normalized_score;
+      record.iterations = r.iterations;
+      record.converged = r.converged;
+      record.rejection = s.judge(r, initial_pose, reduced, "the reported pose");
+      if (record.rejection.empty()) {
+        record.registered = true;
+        record.model_pose = r.pose;
+      }
+    } catch (const InputError& e) {
+      record.rejection = std::string("NDT: ") + e.what();
+    }
+  }
+  const Eigen::Isometry3d moved = record.model_pose * initial_pose.inverse();
+  record.correction_translation_m = moved.translation().norm();
+  record.correction_rotation_rad = rotationAngle(moved);
+
+  if (s.params.scan_to_model && (index == 0 || record.registered)) {
+    s.correction = moved;
+    s.model.add(points.positions, record.model_pose);
+    try {
+      s.target.emplace(s.model.centroids(), s.coarseNdt());
+    } catch (const InputError&) {
+      // Too few points for any Gaussian yet: later scans add to the model.
+      s.target.reset();
+    }
+  }
+  s.reduced.push_back(std::move(reduced));
+  s.normals.push_back(std::move(normals));
+  record.time_ms = msSince(start);
+  s.time_ms += record.time_ms;
+  s.priors.push_back(prior);
+  s.records.push_back(std::move(record));
+  return s.records.back();
+}
+
+namespace {
+
+// The 1 cm cubes a scan's points occupy at a pose, sorted (for overlaps).
+std::vector<std::int64_t> occupiedCubes(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose) {
+  std::vector<std::int64_t> keys;
+  keys.reserve(points.size());
+  for (const Eigen::Vector3d& local : points) keys.push_back(cubeKey(pose * local, 0.01));
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  return keys;
+}
+
+double overlapFraction(const std::vector<std::int64_t>& a, const std::vector<std::int64_t>& b) {
+  if (a.empty() || b.empty()) return 0.0;
+  std::size_t shared = 0;
+  for (auto i = a.begin(), j = b.begin(); i != a.end() && j != b.end();) {
+    if (*i < *j) ++i;
+    else if (*j < *i) ++j;
+    else { ++shared; ++i; ++j; }
+  }
+  return double(shared) / double(std::min(a.size(), b.size()));
+}
+
+}  // namespace
+
+namespace {
+
+// The pairs to register at `poses`: the best-overlapping partners of every
+// scan and, optionally, the last/first pair (loop closure).
+std::map<std::pair<std::size_t, std::size_t>, double> choosePairs(
+    const std::vector<std::vector<Eigen::Vector3d>>& reduced, const std::vector<Eigen::Isometry3d>& poses,
+    const SequenceRegistrationParameters& params) {
+  const std::size_t n = reduced.size();
+  std::vector<std::vector<std::int64_t>> cubes(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { cubes[i] = occupiedCubes(reduced[i], poses[i]); });
+  std::map<std::pair<std::size_t, std::size_t>, double> chosen;
+  const std::size_t limit = static_cast<std::size_t>(std::max(0, params.max_partners));
+  for (std::size_t j = 0; j < n; ++j) {
+    std::vector<std::pair<double, std::size_t>> partners;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i == j) continue;
+      const double overlap = overlapFraction(cubes[i], cubes[j]);
+      if (overlap >= params.min_pair_overlap) partners.emplace_back(-overlap, i);
+    }
+    std::sort(partners.begin(), partners.end());
+    if (partners.size() > limit) partners.resize(limit);
+    for (const auto& [negative_overlap, i] : partners) chosen[{std::min(i, j), std::max(i, j)}] = -negative_overlap;
+  }
+  if (params.loop_closure && n >= 3)
+    chosen.emplace(std::make_pair(std::size_t{0}, n - 1), overlapFraction(cubes[0], cubes[n - 1]));
+  // Consecutive scans overlap however poorly the robot placed them: from
+  // poses a centimetre off, their cubes hardly meet.
+  if (params.sequence_pairs)
+    for (std::size_t i = 0; i + 1 < n; ++i) chosen.emplace(std::make_pair(i, i + 1), overlapFraction(cubes[i], cubes[i + 1]));
+  return chosen;
+}
+
+// Robust per-axis sigma of a set of zero-mean components (MAD).
+double robustSigma(std::vector<double> magnitudes) {
+  if (magnitudes.empty()) return 0.0;
+  const auto middle = magnitudes.begin() + static_cast<std::ptrdiff_t>(magnitudes.size() / 2);
+  std::nth_element(magnitudes.begin(), middle, magnitudes.end());
+  return 1.4826 * *middle;
+}
+
+}  // namespace
+
+SequenceRegistrationResult SequenceRegistration::finish() {
+  Impl& s = *impl_;
+  if (s.finished) throw std::logic_error("SequenceRegistration::finish called twice");
+  if (s.records.empty()) throw InputError("scan sequence", "", "no scans to register");
+  s.finished = true;
+  s.target.reset();
+  const auto start = Clock::now();
+  const SequenceRegistrationParameters& params = s.params;
+  const std::size_t n = s.records.size();
+  SequenceRegistrationResult result;
+  const ndt::NdtParameters pair_ndt = s.coarseNdt();
+
+  // Per scan, built once and shared read-only by every pair it is part of:
+  // its NDT target, and for the fine stage its tangent planes (target side)
+  // and a sparser copy of its points (source side).
+  std::vector<std::optional<ndt::NdtTarget>> ndt_targets(n);
+  std::vector<std::optional<IcpTarget>> icp_targets(n);
+  std::vector<std::vector<Eigen::Vector3d>> icp_sources(n), ndt_sources(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    try {
+      ndt_targets[i].emplace(positionsOnly(s.reduced[i]), pair_ndt);
+    } catch (const InputError&) {
+      // Too few points for any Gaussian: the scan's pairs fail.
+    }
+    if (s.normals[i].size() != s.reduced[i].size()) s.normals[i] = s.surfaceNormals(s.reduced[i]);
+    if (!params.icp_refinement || s.reduced[i].size() < 3) return;
+    std::optional<std::vector<Eigen::Vector3d>> normals = s.normals[i];
+    if (normals->size() != s.reduced[i].size()) normals = tangentNormals(s.reduced[i]);
+    if (!normals) return;
+    icp_targets[i].emplace(s.reduced[i], std::move(*normals));
+    if (params.icp_source_voxel_size > 0) {
+      VoxelModel cubes(params.icp_source_voxel_size);
+      cubes.add(s.reduced[i], Eigen::Isometry3d::Identity());
+      icp_sources[i] = cubes.centroids().positions;
+    } else {
+      icp_sources[i] = s.reduced[i];
+    }
+    // A fixed stride keeps the points spread over the view (the cubes are
+    // in key order) and the cost bounded for dense views.
+    const std::size_t cap = std::max<std::size_t>(params.icp_max_source_points, 1);
+    if (icp_sources[i].size() > cap) {
+      const double stride = double(icp_sources[i].size()) / double(cap);
+      std::vector<Eigen::Vector3d> kept;
+      kept.reserve(cap);
+      for (std::size_t k = 0; k < cap; ++k) kept.push_back(icp_sources[i][static_cast<std::size_t>(k * stride)]);
+      icp_sources[i] = std::move(kept);
+    }
+    VoxelModel coarse(params.pair_ndt_source_voxel_size);
+    coarse.add(s.reduced[i], Eigen::Isometry3d::Identity());
+    ndt_sources[i] = coarse.centroids().positions;
+  });
+
+  std::vector<Eigen::Isometry3d> poses;
+  for (const ScanRegistrationRecord& r : s.records) poses.push_back(r.model_pose);
+  const int rounds = std::max(1, params.refinement_rounds);
+  for (int round = 0; round < rounds; ++round) {
+    const auto chosen = choosePairs(s.reduced, poses, params);
+    std::vector<PairRegistrationRecord> pairs;
+    pairs.reserve(chosen.size());
+    for (const auto& [pair, overlap] : chosen) {
+      PairRegistrationRecord record;
+      record.from = pair.first;
+      record.to = pair.second;
+      record.overlap = overlap;
+      record.round = round;
+      pairs.push_back(record);
+    }
+    std::vector<Matrix6d> hessians(pairs.size(), Matrix6d::Zero());
+    std::vector<Matrix6d> projectors(pairs.size(), Matrix6d::Identity());
+    // Each pair is independent and deterministic: their order of completion
+    // does not matter.
+    tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
+      PairRegistrationRecord& pair = pairs[k];
+      const Eigen::Isometry3d implied = poses[pair.from].inverse() * poses[pair.to];
+      const bool fine = params.icp_refinement && icp_targets[pair.from] && !icp_sources[pair.to].empty();
+      try {
+        ndt::NdtResult estimate;
+        estimate.pose = implied;
+        // The NDT's wide basin is needed only from the robot's poses; later
+        // rounds start from the graph's, within the ICP's reach.
+        if ((round == 0 && params.pair_ndt) || !fine) {
+          if (!ndt_targets[pair.from]) throw InputError("scan " + std::to_string(pair.from), "", "too few points for NDT");
+          const std::vector<Eigen::Vector3d>& source = fine ? ndt_sources[pair.to] : s.reduced[pair.to];
+          estimate = ndt::registerNdt(positionsOnly(source), *ndt_targets[pair.from], implied, pair_ndt);
+          hessians[k] = estimate.hessian;
+          pair.normalized_score = estimate.normalized_score;
+        } else {
+          estimate.normalized_score = 1.0;
+        }
+        if (fine) {
+          // Later rounds start within a millimetre or two: the coarse stages
+          // would only repeat the last one's work.
+          PointToPlaneIcpParameters icp_params = params.icp;
+          if (round > 0 && icp_params.max_distances.size() > 2)
+            icp_params.max_distances.erase(icp_params.max_distances.begin(), icp_params.max_distances.end() - 2);
+          if (round == 0 && !params.pair_ndt)
+            icp_params.max_distances.insert(icp_params.max_distances.begin(), params.icp_wide_distances.begin(),
+                                            params.icp_wide_distances.end());
+          const PointToPlaneIcpResult icp =
+              registerPointToPlane(icp_sources[pair.to], *icp_targets[pair.from], estimate.pose, icp_params);
+          pair.icp_inlier_fraction = icp.inlier_fraction;
+          pair.icp_rms_m = icp.rms_m;
+          if (icp.failed || icp.inlier_fraction < params.min_icp_inlier_fraction) {
+            pair.rejection = "ICP matched " + std::to_string(icp.correspondences) + " points (" +
+                             std::to_string(100.0 * icp.inlier_fraction) + " %), too little overlap";
+          } else {
+            estimate.pose = icp.pose;
+            // The residuals' variance turns sum J^T J into an information.
+            const double variance = std::max(icp.rms_m * icp.rms_m, 1e-12);
+            hessians[k] = icp.hessian / variance;
+          }
+        }
+        const Observability o = scanObservability(s.reduced[pair.to], s.normals[pair.to], implied, params.degeneracy_ratio);
+        if (params.degeneracy_ratio > 0) {
+          remapDegenerate(estimate, implied, o);
+          projectors[k] = o.projector;
+        }
+        pair.degenerate_directions = o.degenerate_directions;
+        pair.weakest_direction_ratio = o.weakest_ratio;
+        if (pair.rejection.empty()) pair.rejection = s.judge(estimate, implied, s.reduced[pair.to], "the scan-to-model poses");
+        const Eigen::Isometry3d discrepancy = implied.inverse() * estimate.pose;
+        pair.discrepancy_translation_m = discrepancy.translation().norm();
+        pair.discrepancy_rotation_rad = rotationAngle(discrepancy);
+        if (pair.rejection.empty()) {
+          pair.accepted = true;
+          pair.measurement = estimate.pose;
+        }
+      } catch (const InputError& e) {
+        pair.rejection = std::string("NDT: ") + e.what();
+      }
+    });
+
+    // How good the robot's own relative motions and poses are, measured by
+    // the consecutive pairs (independent of the robot).
+    double odometry_sigma_t = params.odometry_sigma_translation, odometry_sigma_r = params.odometry_sigma_rotation;
+    double prior_sigma_t = params.prior_sigma_translation, prior_sigma_r = params.prior_sigma_rotation;
+    {
+      std::vector<double> translation, rotation;
+      for (const PairRegistrationRecord& pair : pairs) {
+        if (!pair.accepted || pair.to != pair.from + 1 || pair.degenerate_directions > 0) continue;
+        const Eigen::Isometry3d odometry = s.records[pair.from].initial_pose.inverse() * s.records[pair.to].initial_pose;
+        const Vector6d e = poseGraphEdgeError(Eigen::Isometry3d::Identity(), pair.measurement, odometry);
+        for (int c = 0; c < 3; ++c) {
+          translation.push_back(std::abs(e(c)));
+          rotation.push_back(std::abs(e(3 + c)));
+        }
+      }
+      if (translation.size() >= 9) {
+        result.measured_odometry_sigma_translation_m = robustSigma(translation);
+        result.measured_odometry_sigma_rotation_rad = robustSigma(rotation);
+        if (params.estimate_robot_precision) {
+          if (odometry_sigma_t > 0 && odometry_sigma_r > 0) {
+            odometry_sigma_t = std::max(odometry_sigma_t, result.measured_odometry_sigma_translation_m);
+            odometry_sigma_r = std::max(odometry_sigma_r, result.measured_odometry_sigma_rotation_rad);
+          }
+          if (prior_sigma_t > 0 && prior_sigma_r > 0) {
+            prior_sigma_t = std::max(prior_sigma_t, result.measured_odometry_sigma_translation_m / std::sqrt(2.0));
+            prior_sigma_r = std::max(prior_sigma_r, result.measured_odometry_sigma_rotation_rad / std::sqrt(2.0));
+          }
+        }
+      }
+    }
+    result.odometry_sigma_translation_m = odometry_sigma_t;
+    result.odometry_sigma_rotation_rad = odometry_sigma_r;
+    result.prior_sigma_translation_m = prior_sigma_t;
+    result.prior_sigma_rotation_rad = prior_sigma_r;
+
+    const bool priors = prior_sigma_t > 0;
+    PoseGraph graph;
+    graph.poses = poses;
+    const Matrix6d registration_information =
+        poseGraphInformation(params.registration_sigma_translation, params.registration_sigma_rotation);
+    // One scale for all pairs, so that a pair that matched more points more
+    // tightly keeps more weight: the median pair's best-constrained
+    // translation gets `registration_sigma_translation`.
+    std::vector<double> stiffness;
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+      if (pairs[k].accepted) stiffness.push_back(translationStiffness(hessians[k]));
+    double hessian_scale = 0.0;
+    if (!stiffness.empty()) {
+      std::nth_element(stiffness.begin(), stiffness.begin() + static_cast<std::ptrdiff_t>(stiffness.size() / 2),
+                       stiffness.end());
+      const double median = stiffness[stiffness.size() / 2];
+      if (median > 0)
+        hessian_scale = 1.0 / (params.registration_sigma_translation * params.registration_sigma_translation * median);
+    }
+    std::vector<std::size_t> pair_edges;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      if (!pairs[k].accepted) continue;
+      pair_edges.push_back(graph.edges.size());
+      PoseGraphEdge edge;
+      edge.from = pairs[k].from;
+      edge.to = pairs[k].to;
+      edge.measurement = pairs[k].measurement;
+      edge.information = params.hessian_information
+                             ? hessianInformation(hessians[k], projectors[k], pairs[k].measurement, hessian_scale)
+                             : registration_information;
+      graph.edges.push_back(edge);
+    }
+    // Without odometry, the scan-to-model chain as weak edges keeps every
+    // scan connected when its pairs fail. With odometry it only adds the
+    // sequential registration's drift (on the SR4000 cup: 1.09 instead of
+    // 0.91 mm median error), so it is left out.
+    const bool odometry = odometry_sigma_t > 0 && odometry_sigma_r > 0;
+    for (std::size_t i = 1; i < n && !odometry; ++i) {
+      PoseGraphEdge edge;
+      edge.from = i - 1;
+      edge.to = i;
+      edge.measurement = s.records[i - 1].model_pose.inverse() * s.records[i].model_pose;
+      const double weak = s.records[i].registered ? 10.0 : 20.0;
+      edge.information =
+          poseGraphInformation(weak * params.registration_sigma_translation, weak * params.registration_sigma_rotation);
+      edge.robust = false;
+      graph.edges.push_back(edge);
+    }
+    if (odometry) {
+      const Matrix6d odometry_information = poseGraphInformation(odometry_sigma_t, odometry_sigma_r);
+      for (std::size_t i = 1; i < n; ++i) {
+        PoseGraphEdge edge;
+        edge.from = i - 1;
+        edge.to = i;
+        edge.measurement = s.records[i - 1].initial_pose.inverse() * s.records[i].initial_pose;
+        edge.information = odometry_information;
+        edge.robust = false;
+        graph.edges.push_back(edge);
+      }
+    }
+    const bool extra_priors =
+        std::any_of(s.priors.begin(), s.priors.end(), [](const std::optional<PosePrior>& p) { return p.has_value(); });
+    if (priors || extra_priors) {
+      // A world node at the identity, tied to every scan by its reported
+      // pose and to those with another measurement of their pose by that one.
+      const std::size_t world = n;
+      graph.poses.push_back(Eigen::Isometry3d::Identity());
+      for (std::size_t i = 0; i < n; ++i) {
+        PoseGraphEdge edge;
+        edge.from = world;
+        edge.to = i;
+        edge.robust = false;
+        if (priors) {
+          edge.measurement = s.records[i].initial_pose;
+          edge.information = poseGraphInformation(prior_sigma_t, prior_sigma_r);
+          graph.edges.push_back(edge);
+        }
+        if (s.priors[i]) {
+          // Robust: an independent measurement (a board corner lattice
+          // locked one square off, say) must not drag the whole graph.
+          edge.measurement = s.priors[i]->pose;
+          edge.information = poseGraphInformation(s.priors[i]->sigma_translation, s.priors[i]->sigma_rotation);
+          edge.robust = true;
+          graph.edges.push_back(edge);
+        }
+      }
+      graph.fixed = {world};
+    } else {
+      graph.fixed = {0};
+    }
+
+    result.pairs = std::move(pairs);
+    result.refinement_rounds = round + 1;
+    if (n == 1 && !extra_priors) {
+      poses = {s.records.front().model_pose};
+      break;
+    }
+    PoseGraphResult solved = optimisePoseGraph(graph, params.graph);
+    // How precise each group of edges really was on this data: the stated
+    // sigmas are guesses (a Kinect pair is better than a SR4000 pair, a
+    // mobile robot knows its pose worse than an arm). Variance component
+    // estimation (pose_graph_variance.hpp) rescales the pairs, the robot's
+    // priors and its odometry until each group's residuals match its
+    // redundancy, solving the graph again each time.
+    std::vector<int> groups(graph.edges.size(), -1);
+    for (std::size_t e : pair_edges) groups[e] = 0;
+    for (std::size_t e = 0; e < graph.edges.size(); ++e) {
+      const PoseGraphEdge& edge = graph.edges[e];
+      if (priors && edge.from == n && !edge.robust) groups[e] = 1;
+      if (odometry && edge.from < n && edge.to == edge.from + 1 && !edge.robust) groups[e] = 2;
+    }
+    double factor = 1.0, prior_factor = 1.0, odometry_factor = 1.0;
+    auto floorOf = [](double stated_t, double start_t, double stated_r, double start_r) {
+      if (!(start_t > 0) || !(start_r > 0)) return 1.0;
+      return std::min(1.0, std::max(std::pow(stated_t / start_t, 2), std::pow(stated_r / start_r, 2)));
+    };
+    const double prior_floor =
+        floorOf(params.prior_sigma_translation, prior_sigma_t, params.prior_sigma_rotation, prior_sigma_r);
+    const double odometry_floor =
+        floorOf(params.odometry_sigma_translation, odometry_sigma_t, params.odometry_sigma_rotation, odometry_sigma_r);
+    for (int v = 0; v < params.variance_rounds && pair_edges.size() >= 3; ++v) {
+      const auto components = estimateVarianceComponents(graph, solved, groups, 3);
+      std::array<double, 3> steps{1.0, 1.0, 1.0};
+      // The pairs: their median chi-square against 6 degrees of freedom,
+      // only ever weakening them. Their errors are largely systematic (a
+      // depth camera's distortion repeats in every view), which their
+      // mutual consistency cannot show: the redundancy estimate would make
+      // them far stronger than they are (on the real PrimeSense bunny it
+      // did, and the cloud got worse), so `registration_sigma_*` is a floor.
+      std::vector<double> chi2;
+      for (std::size_t e : pair_edges) {
+        const PoseGraphEdge& edge = graph.edges[e];
+        const Vector6d error = poseGraphEdgeError(solved.poses[edge.from], solved.poses[edge.to], edge.measurement);
+        chi2.push_back(error.dot(edge.information * error));
+      }
+      std::nth_element(chi2.begin(), chi2.begin() + static_cast<std::ptrdiff_t>(chi2.size() / 2), chi2.end());
+      steps[0] = std::clamp(chi2[chi2.size() / 2] / 5.35, 1.0 / factor, 1e2 / factor);
+      // The robot's priors and odometry: their residuals against their
+      // redundancy (too large a graph for the dense inverse: as stated).
+      if (const auto components = estimateVarianceComponents(graph, solved, groups, 3))
+        for (int g = 1; g < 3; ++g) steps[g] = std::clamp((*components)[g].variance_factor, 1e-2, 1e2);
+      // The robot's groups stay between their stated sigmas and the ones the
+      // consecutive pairs measured (which hold the pairs' own error too):
+      // with wrong pairs among few, or noisy pairs (a ToF camera) against an
+      // arm's precise odometry, unbounded factors feed on each other.
+      steps[1] = std::clamp(steps[1], prior_floor / prior_factor, 1.0 / prior_factor);
+      steps[2] = std::clamp(steps[2], odometry_floor / odometry_factor, 1.0 / odometry_factor);
+      if (std::all_of(steps.begin(), steps.end(), [](double x) { return std::abs(std::log(x)) < std::log(1.2); }))
+        break;
+      factor *= steps[0];
+      prior_factor *= steps[1];
+      odometry_factor *= steps[2];
+      for (std::size_t e = 0; e < graph.edges.size(); ++e)
+        if (groups[e] >= 0) graph.edges[e].information /= steps[static_cast<std::size_t>(groups[e])];
+      solved = optimisePoseGraph(graph, params.graph);
+    }
+    if (priors) {
+      result.prior_sigma_translation_m *= std::sqrt(prior_factor);
+      result.prior_sigma_rotation_rad *= std::sqrt(prior_factor);
+    }
+    if (odometry) {
+      result.odometry_sigma_translation_m *= std::sqrt(odometry_factor);
+      result.odometry_sigma_rotation_rad *= std::sqrt(odometry_factor);
+    }
+    result.pair_variance_factor = factor;
+    poses.assign(solved.poses.begin(), solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
+    result.graph = solved.report;
+  }
+  result.poses = poses;
+
+  const bool try_loop = params.loop_closure && n >= 3;
+  if (try_loop) {
+    LoopClosureRecord& loop = result.loop_closure;
+    for (const PairRegistrationRecord& pair : result.pairs)
+      if (pair.from == 0 && pair.to == n - 1) {
+        loop.attempted = true;
+        loop.accepted = pair.accepted;
+        loop.rejection = pair.rejection;
+        loop.from = 0;
+        loop.to = n - 1;
+        loop.normalized_score = pair.normalized_score;
+        loop.discrepancy_translation_m = pair.discrepancy_translation_m;
+        loop.discrepancy_rotation_rad = pair.discrepancy_rotation_rad;
+      }
+  }
+  result.scans = std::move(s.records);
+  result.model_points = s.model.size();
+  result.resolutions = params.ndt.resolutions;
+  result.first_scan_spacing_m = s.first_spacing;
+  result.time_ms = s.time_ms + msSince(start);
+  s.reduced = {};
+  s.normals = {};
+  return result;
+}
+
+SequenceRegistrationResult registerScanSequence(const std::vector<PointCloud>& scans,
+                                                const std::vector<Eigen::Isometry3d>& initial_poses,
+                                                const SequenceRegistrationParameters& params) {
+  if (scans.size() != initial_poses.size())
+    throw InputError("scan sequence", "", std::to_string(scans.size()) + " scans but " +
+                                              std::to_string(initial_poses.size()) + " initial poses");
+  SequenceRegistration registration(params);
+  for (std::size_t i = 0; i < scans.size(); ++i) registration.add(scans[i], initial_poses[i]);
+  return registration.finish();
+}
+
+}  // namespace icrkit::reconstruction
