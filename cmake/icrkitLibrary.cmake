@@ -10,8 +10,8 @@ function(icrkit_add_library name)
     set(scope PUBLIC)
     target_link_libraries(${target} PRIVATE ${ARG_PRIVATE_DEPS})
   else()
-    # A library whose issue has not landed yet: headers only, so that the
-    # dependency graph of the targets is already the final one.
+    # A library without sources yet: headers only, so that its target and
+    # its place in the dependency graph exist from the start.
     add_library(${target} INTERFACE)
     set(scope INTERFACE)
   endif()
@@ -31,7 +31,7 @@ function(icrkit_add_library name)
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  # A library whose issue has not landed has no headers yet (git keeps no empty folders).
+  # A library without sources may have no headers yet either (git keeps no empty folders).
   if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
     install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
   endif()

@@ -125,8 +125,11 @@ import json
 d = json.load(open('$work/f.json'))
 assert abs(d['radius_m'] - 2 * d['median_spacing_m']) < 1e-12, d
 " || fail "--radius 2x is not twice the median spacing"
-"$ICRKIT" smooth "$plane" -o "$work/nopre.ply" --no-preselect -q >/dev/null || fail "smooth --no-preselect failed"
-head -c 1000 "$work/nopre.ply" | grep -aq "property uchar excluded" && fail "--no-preselect still wrote 'excluded'"
+"$ICRKIT" smooth "$plane" -o "$work/nopre.ply" --no-preselection -q >/dev/null || fail "smooth --no-preselection failed"
+# The older spelling is still accepted.
+"$ICRKIT" smooth "$plane" -o "$work/nopre_old.ply" --no-preselect -q >/dev/null || fail "smooth --no-preselect failed"
+cmp -s "$work/nopre.ply" "$work/nopre_old.ply" || fail "--no-preselect and --no-preselection differ"
+head -c 1000 "$work/nopre.ply" | grep -aq "property uchar excluded" && fail "--no-preselection still wrote 'excluded'"
 "$ICRKIT" smooth "$plane" -o "$work/none.ply" --preselection none -q >/dev/null || fail "smooth --preselection none failed"
 head -c 1000 "$work/none.ply" | grep -aq "property uchar excluded" && fail "--preselection none still wrote 'excluded'"
 "$ICRKIT" smooth "$plane" -o "$work/paper.ply" --preselection paper-mean --json -q >"$work/paper.json" ||
@@ -139,7 +142,7 @@ assert abs(d['thresholds']['cardinality'] - d['mean_cardinality']) < 1e-12
 assert abs(d['thresholds']['flatness'] - d['mean_flatness']) < 1e-12
 " || fail "--preselection paper-mean: thresholds are not the means"
 expect_exit 2 "$ICRKIT" smooth "$plane" -o "$work/x.ply" --preselection mean
-head -c 1000 "$work/nopre.ply" | grep -aq "property int cardinality" || fail "--no-preselect lost 'cardinality'"
+head -c 1000 "$work/nopre.ply" | grep -aq "property int cardinality" || fail "--no-preselection lost 'cardinality'"
 "$ICRKIT" smooth "$plane" -o "$work/out.pcd" -q >/dev/null || fail "smooth to .pcd failed"
 head -c 300 "$work/out.pcd" | grep -aq "^FIELDS .*cardinality flatness displacement normal_sigma position_sigma excluded" ||
   fail "the .pcd output lacks the attributes"

@@ -10,9 +10,10 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/eval/experiment.hpp>
-#include <icrkit/eval/experiment_outputs.hpp>
 #include <icrkit/eval/results_tables.hpp>
 #include <icrkit/eval/sensitivity_study.hpp>
+#include <icrkit/report/experiment_outputs.hpp>
+#include <icrkit/report/sensitivity_plot.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -105,12 +106,12 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
                         {"grasps_sampled", sampled},
                         {"items", experiment->itemCount()}}}}};
 
-  eval::ExperimentOutputs outputs;
+  report::ExperimentOutputs outputs;
   outputs.dataset_order = {name};
   outputs.finger_counts = config.finger_counts;
   outputs.run_json = run.dump();
   const double write_start = context.elapsedMs();
-  eval::WrittenOutputs written = eval::writeExperimentOutputs(o.output, records, outputs);
+  report::WrittenOutputs written = report::writeExperimentOutputs(o.output, records, outputs);
   std::vector<std::string>& files = written.files;
   const double render_start = context.elapsedMs();
   for (const std::string& f :
@@ -196,17 +197,17 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
   nlohmann::json run = first;
   run["shard"] = {{"index", 0}, {"count", 1}};
   run["merged_from"] = o.inputs;
-  eval::ExperimentOutputs outputs;
+  report::ExperimentOutputs outputs;
   for (const auto& dataset : first.at("datasets")) outputs.dataset_order.push_back(dataset.at("name"));
   for (const auto& f : first.at("config").at("finger_counts")) outputs.finger_counts.push_back(f);
   outputs.run_json = run.dump();
-  std::vector<std::string> files = eval::writeExperimentOutputs(o.output, records, outputs).files;
+  std::vector<std::string> files = report::writeExperimentOutputs(o.output, records, outputs).files;
   if (first.contains("sensitivity")) {  // an `icrkit sensitivity` study: its own table from the merged records
     const nlohmann::json& study = first.at("sensitivity");
     const eval::SensitivityTable table = eval::computeSensitivityTable(
         records, study.at("object").get<std::string>(), study.at("spacing_m").get<double>(),
         study.at("noise_levels").get<std::vector<double>>(), study.at("rules").get<std::vector<std::string>>());
-    for (const std::string& f : eval::writeSensitivityOutputs(o.output, table)) files.push_back(f);
+    for (const std::string& f : report::writeSensitivityOutputs(o.output, table)) files.push_back(f);
   }
   // Each shard rendered the first evaluated grasps of its own block; the
   // merged folder keeps those an unsharded run renders (the first `renders`

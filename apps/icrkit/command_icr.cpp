@@ -13,6 +13,7 @@
 #include <icrkit/icr/graspable_object.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
 #include <icrkit/icr/patch_contacts.hpp>
+#include <icrkit/icr/regions_file.hpp>
 
 #include <algorithm>
 #include <array>
@@ -206,13 +207,8 @@ void run(const IcrOptions& options, CommandContext& context) {
   }
 
   const std::string summary_path = summaryPathFor(options.output);
-  nlohmann::json regions = nlohmann::json::array();
-  for (const icr::ContactRegion& region : result.regions)
-    regions.push_back({{"finger", region.finger},
-                       {"contact", region.contact},
-                       {"vertices", region.vertices},
-                       {"area_m2", region.area_m2},
-                       {"recommended", {{"vertex", region.recommended.vertex}, {"depth_m", region.recommended.depth_m}}}});
+  // The regions file's format is icr's (regions_file.hpp); the rest is this command's summary.
+  const nlohmann::json regions = nlohmann::json::parse(icr::regionsJson(result.regions));
   nlohmann::json summary{
       {"epsilon", result.epsilon},
       {"lambda_m", result.lambda_m},

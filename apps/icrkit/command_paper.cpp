@@ -10,9 +10,9 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/eval/experiment.hpp>
-#include <icrkit/eval/experiment_outputs.hpp>
 #include <icrkit/eval/results_tables.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+#include <icrkit/report/experiment_outputs.hpp>
 #include <icrkit/sim/dataset.hpp>
 
 #include <filesystem>
@@ -178,11 +178,11 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
                      {"renders", o.experiment.renders},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"datasets", names}};
-  eval::ExperimentOutputs outputs;
+  report::ExperimentOutputs outputs;
   outputs.dataset_order = order;
   outputs.finger_counts = config.finger_counts;
   outputs.run_json = run.dump();
-  eval::WrittenOutputs written = eval::writeExperimentOutputs(o.output, records, outputs);
+  report::WrittenOutputs written = report::writeExperimentOutputs(o.output, records, outputs);
   std::vector<std::string>& files = written.files;
   files.insert(files.end(), renders.begin(), renders.end());
 

@@ -9,9 +9,10 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/mesh_topology.hpp>
-#include <icrkit/eval/grasp_render.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
-#include <icrkit/eval/mesh_render.hpp>
+#include <icrkit/icr/regions_file.hpp>
+#include <icrkit/report/grasp_render.hpp>
+#include <icrkit/report/mesh_render.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -47,7 +48,7 @@ struct RenderOptions {
   std::string output;
 };
 
-// The regions of one mesh as `icrkit icr` writes them in its JSON summary.
+// The regions of one mesh, as the regions file holds them, finger by finger.
 struct RegionSet {
   std::vector<int> fingers;
   std::vector<int> contacts;  ///< -1 when the entry has none
@@ -91,59 +92,13 @@ std::vector<int> parseContacts(const std::string& text, const TriangleMesh& mesh
   return contacts;
 }
 
-// Reads `path` (an `icrkit icr` summary) and checks every index against `mesh`.
+// Reads `path` (a regions file, icr/regions_file.hpp) and checks every index against `mesh`.
 RegionSet readRegions(const std::string& path, const TriangleMesh& mesh, const std::string& mesh_path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "", "cannot be read; expected the JSON summary `icrkit icr` writes next to its PLY");
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(in);
-  } catch (const std::exception& error) {
-    throw InputError(path, "", std::string("is not valid JSON: ") + error.what());
-  }
-  if (!document.is_object() || !document.contains("regions") || !document["regions"].is_array())
-    throw InputError(path, "", "has no \"regions\" array; expected the JSON summary `icrkit icr` writes next to its PLY");
-  const long long count = static_cast<long long>(mesh.vertexCount());
-  const std::vector<std::uint8_t> referenced = referencedVertices(mesh);
-  auto vertexIndex = [&](const nlohmann::json& value, const std::string& where) {
-    if (!value.is_number_integer())
-      throw InputError(path, where, "expected a vertex index, got " + value.dump());
-    const long long v = value.get<long long>();
-    if (v < 0 || v >= count)
-      throw InputError(path, where,
-                       "vertex " + std::to_string(v) + " is out of range for " + mesh_path + " (" +
-                           std::to_string(count) + " vertices); were the regions computed on another mesh?");
-    // `icrkit icr` never puts such a vertex in a region or makes it a contact.
-    if (!referenced[static_cast<std::size_t>(v)])
-      throw InputError(path, where,
-                       "vertex " + std::to_string(v) + " is used by no face of " + mesh_path +
-                           ", so it cannot be in a region; were the regions computed on another mesh?");
-    return static_cast<int>(v);
-  };
   RegionSet set;
-  const nlohmann::json& regions = document["regions"];
-  for (std::size_t r = 0; r < regions.size(); ++r) {
-    const nlohmann::json& region = regions[r];
-    const std::string where = "regions[" + std::to_string(r) + "]";
-    if (!region.is_object() || !region.contains("vertices") || !region["vertices"].is_array())
-      throw InputError(path, where, "expected an object with a \"vertices\" array");
-    int finger = static_cast<int>(r);
-    if (region.contains("finger")) {
-      if (!region["finger"].is_number_integer() || region["finger"].get<long long>() < 0 ||
-          region["finger"].get<long long>() > 1000)
-        throw InputError(path, where + ".finger", "expected a finger index 0..1000, got " + region["finger"].dump());
-      finger = region["finger"].get<int>();
-    }
-    if (std::find(set.fingers.begin(), set.fingers.end(), finger) != set.fingers.end())
-      throw InputError(path, where, "finger " + std::to_string(finger) + " has more than one region");
-    const std::string named = where + " (finger " + std::to_string(finger) + ")";
-    set.fingers.push_back(finger);
-    set.contacts.push_back(region.contains("contact") ? vertexIndex(region["contact"], named + ".contact") : -1);
-    std::vector<int> vertices;
-    const nlohmann::json& list = region["vertices"];
-    for (std::size_t k = 0; k < list.size(); ++k)
-      vertices.push_back(vertexIndex(list[k], named + ".vertices[" + std::to_string(k) + "]"));
-    set.vertices.push_back(std::move(vertices));
+  for (icr::StoredRegion& region : icr::readRegionsFile(path, mesh, mesh_path)) {
+    set.fingers.push_back(region.finger);
+    set.contacts.push_back(region.contact);
+    set.vertices.push_back(std::move(region.vertices));
   }
   return set;
 }
@@ -179,7 +134,7 @@ TriangleMesh readMesh(const std::string& path, bool need_normals, bool compute_n
 }
 
 // --camera eye_x,eye_y,eye_z[,target_x,target_y,target_z], fitted to the mesh.
-eval::RenderCamera parseCamera(const std::string& text, std::size_t index, const eval::BoundingSphere& sphere,
+report::RenderCamera parseCamera(const std::string& text, std::size_t index, const report::BoundingSphere& sphere,
                                const Eigen::Vector3d& up, double aspect) {
   const std::vector<std::string> parts = split(text, ',');
   std::vector<double> values;
@@ -203,32 +158,32 @@ eval::RenderCamera parseCamera(const std::string& text, std::size_t index, const
   Eigen::Vector3d camera_up = up;
   if ((target - eye).normalized().cross(up.normalized()).norm() < 1e-6)
     camera_up = std::abs(up.normalized().y()) < 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX();
-  eval::RenderCamera camera = eval::fittedCamera(sphere, eye, target, camera_up, aspect);
+  report::RenderCamera camera = report::fittedCamera(sphere, eye, target, camera_up, aspect);
   camera.name = location;
   return camera;
 }
 
-std::vector<eval::RenderCamera> chooseCameras(const RenderOptions& options, const TriangleMesh& mesh, int width,
+std::vector<report::RenderCamera> chooseCameras(const RenderOptions& options, const TriangleMesh& mesh, int width,
                                               int height) {
   const Eigen::Vector3d up = parsePoint("--up", options.up);
   if (up.norm() == 0.0) throw InputError("--up", "", "must be a non-zero vector");
   const double aspect = static_cast<double>(width) / height;
   if (!options.cameras.empty()) {
-    const eval::BoundingSphere sphere = eval::boundingSphere(mesh);
-    std::vector<eval::RenderCamera> cameras;
+    const report::BoundingSphere sphere = report::boundingSphere(mesh);
+    std::vector<report::RenderCamera> cameras;
     for (std::size_t i = 0; i < options.cameras.size(); ++i)
       cameras.push_back(parseCamera(options.cameras[i], i, sphere, up, aspect));
     return cameras;
   }
-  eval::OrbitParameters orbit;
+  report::OrbitParameters orbit;
   orbit.count = options.views;
   orbit.top_view = options.top_view;
   orbit.aspect = aspect;
   orbit.up = up;
-  return eval::orbitCameras(mesh, orbit);
+  return report::orbitCameras(mesh, orbit);
 }
 
-nlohmann::json cameraJson(const eval::RenderCamera& camera) {
+nlohmann::json cameraJson(const report::RenderCamera& camera) {
   auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); };
   return {{"name", camera.name},
           {"eye", vec(camera.eye)},
@@ -238,16 +193,16 @@ nlohmann::json cameraJson(const eval::RenderCamera& camera) {
 }
 
 // Central point (geodesic, as Q_n uses) of each region; -1 for an empty one.
-std::vector<eval::RgbImage> renderViews(const TriangleMesh& mesh, const std::vector<eval::RenderCamera>& cameras,
-                                        const eval::RenderStyle& style, const eval::SurfaceColours& colours,
-                                        const std::vector<eval::Marker>& markers, const std::string& caption_prefix,
+std::vector<report::RgbImage> renderViews(const TriangleMesh& mesh, const std::vector<report::RenderCamera>& cameras,
+                                        const report::RenderStyle& style, const report::SurfaceColours& colours,
+                                        const std::vector<report::Marker>& markers, const std::string& caption_prefix,
                                         CommandContext& context) {
-  const eval::MeshRenderer renderer(mesh);
-  std::vector<eval::RgbImage> images;
+  const report::MeshRenderer renderer(mesh);
+  std::vector<report::RgbImage> images;
   const ProgressCallback progress = context.progress();
   for (std::size_t i = 0; i < cameras.size(); ++i) {
-    eval::RgbImage image = renderer.render(cameras[i], style, colours, markers);
-    eval::drawCaption(image, caption_prefix + cameras[i].name);
+    report::RgbImage image = renderer.render(cameras[i], style, colours, markers);
+    report::drawCaption(image, caption_prefix + cameras[i].name);
     images.push_back(std::move(image));
     if (progress) progress("render", i + 1, cameras.size());
   }
@@ -279,11 +234,11 @@ void run(const RenderOptions& options, CommandContext& context) {
   std::vector<int> contacts = contactsOf(regions);
   if (!options.contacts.empty()) contacts = parseContacts(options.contacts, mesh);
 
-  eval::RenderStyle style;
+  report::RenderStyle style;
   style.width = width;
   style.height = height;
   style.samples_per_axis = options.samples;
-  const std::vector<eval::RenderCamera> cameras = chooseCameras(options, mesh, width, height);
+  const std::vector<report::RenderCamera> cameras = chooseCameras(options, mesh, width, height);
   const int view_count = static_cast<int>(cameras.size());
 
   nlohmann::json summary{{"mesh", options.mesh},
@@ -291,31 +246,31 @@ void run(const RenderOptions& options, CommandContext& context) {
                          {"view_size", {width, height}},
                          {"views", view_count}};
   nlohmann::json cameras_json = nlohmann::json::array();
-  for (const eval::RenderCamera& camera : cameras) cameras_json.push_back(cameraJson(camera));
+  for (const report::RenderCamera& camera : cameras) cameras_json.push_back(cameraJson(camera));
   summary["cameras"] = cameras_json;
 
   const double setup_ms = context.elapsedMs();
-  eval::RgbImage image;
-  std::vector<eval::LegendEntry> legend;
+  report::RgbImage image;
+  std::vector<report::LegendEntry> legend;
   const auto dotEntries = [&](bool centres) {
-    for (const eval::LegendEntry& entry : eval::graspMarkerLegend(centres)) legend.push_back(entry);
+    for (const report::LegendEntry& entry : report::graspMarkerLegend(centres)) legend.push_back(entry);
   };
   int columns = std::min(options.columns, view_count);  // <= 0: chosen below
 
   if (!comparing) {
     const std::vector<int> centres =
-        options.central_points ? eval::regionCentralPoints(mesh, regions.vertices) : std::vector<int>(regions.vertices.size(), -1);
-    eval::SurfaceColours colours;
+        options.central_points ? report::regionCentralPoints(mesh, regions.vertices) : std::vector<int>(regions.vertices.size(), -1);
+    report::SurfaceColours colours;
     if (!regions.fingers.empty())
-      colours.per_vertex = eval::regionColours(mesh, regions.fingers, regions.vertices, style.base_colour);
-    const std::vector<eval::RgbImage> views =
-        renderViews(mesh, cameras, style, colours, eval::graspMarkers(mesh, contacts, centres, width), "", context);
+      colours.per_vertex = report::regionColours(mesh, regions.fingers, regions.vertices, style.base_colour);
+    const std::vector<report::RgbImage> views =
+        renderViews(mesh, cameras, style, colours, report::graspMarkers(mesh, contacts, centres, width), "", context);
     if (columns <= 0) columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(view_count))));
-    image = eval::tileImages(views, columns);
+    image = report::tileImages(views, columns);
     nlohmann::json regions_json = nlohmann::json::array();
     std::vector<int> sorted = regions.fingers;
     std::sort(sorted.begin(), sorted.end());
-    for (int finger : sorted) legend.push_back({eval::fingerColour(finger), "finger " + std::to_string(finger), false});
+    for (int finger : sorted) legend.push_back({report::fingerColour(finger), "finger " + std::to_string(finger), false});
     for (std::size_t r = 0; r < regions.fingers.size(); ++r)
       regions_json.push_back({{"finger", regions.fingers[r]},
                               {"contact", regions.contacts[r]},
@@ -366,33 +321,33 @@ void run(const RenderOptions& options, CommandContext& context) {
         throw InputError(options.regions, "", "has no region for finger " + std::to_string(finger) + ", which " +
                                                   options.compare_regions + " has");
 
-    eval::SurfaceColours cad_colours, scan_colours;
-    cad_colours.per_face = eval::cadComparisonColours(mesh, cad_sets, intersection_faces, style.base_colour);
-    scan_colours.per_corner = eval::scanComparisonColours(other, scan_sets, inside, style.base_colour);
+    report::SurfaceColours cad_colours, scan_colours;
+    cad_colours.per_face = report::cadComparisonColours(mesh, cad_sets, intersection_faces, style.base_colour);
+    scan_colours.per_corner = report::scanComparisonColours(other, scan_sets, inside, style.base_colour);
     const std::vector<int> cad_centres =
-        options.central_points ? eval::regionCentralPoints(mesh, regions.vertices) : std::vector<int>(regions.vertices.size(), -1);
-    const std::vector<int> scan_centres = options.central_points ? eval::regionCentralPoints(other, other_regions.vertices)
+        options.central_points ? report::regionCentralPoints(mesh, regions.vertices) : std::vector<int>(regions.vertices.size(), -1);
+    const std::vector<int> scan_centres = options.central_points ? report::regionCentralPoints(other, other_regions.vertices)
                                                                  : std::vector<int>(other_regions.vertices.size(), -1);
     // Both rows use the cameras fitted to MESH: the meshes share a frame, so
     // the same place appears at the same pixel in both rows.
-    std::vector<eval::RgbImage> views =
-        renderViews(mesh, cameras, style, cad_colours, eval::graspMarkers(mesh, contacts, cad_centres, width), "CAD: ", context);
-    std::vector<eval::RgbImage> scan_views =
+    std::vector<report::RgbImage> views =
+        renderViews(mesh, cameras, style, cad_colours, report::graspMarkers(mesh, contacts, cad_centres, width), "CAD: ", context);
+    std::vector<report::RgbImage> scan_views =
         renderViews(other, cameras, style, scan_colours,
-                    eval::graspMarkers(other, contactsOf(other_regions), scan_centres, width), "reconstructed: ", context);
+                    report::graspMarkers(other, contactsOf(other_regions), scan_centres, width), "reconstructed: ", context);
     if (columns <= 0) columns = view_count;
     // Rows of `columns` CAD views, then the same rows for the reconstruction.
     const int rows = (view_count + columns - 1) / columns;
-    std::vector<eval::RgbImage> tiles;
+    std::vector<report::RgbImage> tiles;
     for (int row = 0; row < rows; ++row)
       for (const auto* set : {&views, &scan_views})
         for (int c = 0; c < columns; ++c) {
           const int i = row * columns + c;
           tiles.push_back(i < view_count ? (*set)[static_cast<std::size_t>(i)]
-                                         : eval::RgbImage(width, height, {255, 255, 255}));
+                                         : report::RgbImage(width, height, {255, 255, 255}));
         }
-    image = eval::tileImages(tiles, columns);
-    const eval::ComparisonPalette palette;
+    image = report::tileImages(tiles, columns);
+    const report::ComparisonPalette palette;
     legend.push_back({palette.intersection, "I_n / inside CAD region", false});
     legend.push_back({palette.missed, "CAD region outside I_n", false});
     legend.push_back({palette.false_positive, "false positive", false});
@@ -401,10 +356,10 @@ void run(const RenderOptions& options, CommandContext& context) {
   }
   const double render_ms = context.elapsedMs() - setup_ms;
 
-  image = eval::appendLegend(image, legend);
+  image = report::appendLegend(image, legend);
   summary["columns"] = columns;
   summary["image_size"] = {image.width, image.height};
-  eval::writePng(options.output, image);
+  report::writePng(options.output, image);
   summary["time_ms"] = {{"setup", setup_ms}, {"render", render_ms}, {"total", context.elapsedMs()}};
   context.emit(summary);
 }

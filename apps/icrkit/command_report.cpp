@@ -1,7 +1,7 @@
 // `icrkit report RUN_DIR -o report.html`: one self-contained HTML page of a
 // run folder of `icrkit evaluate` or `icrkit paper` (docs/evaluation.md,
 // "Report"). This file only gathers the pieces; the page itself is built by
-// icrkit::eval::buildHtmlReport. A run folder that lacks files still gets a
+// icrkit::report::buildHtmlReport. A run folder that lacks files still gets a
 // report, which says what is missing: a half-copied run is worth looking at.
 
 #include "commands.hpp"
@@ -14,10 +14,12 @@
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/experiment_records.hpp>
 #include <icrkit/eval/grasp_regions.hpp>
-#include <icrkit/eval/html_report.hpp>
 #include <icrkit/eval/quality_histogram.hpp>
 #include <icrkit/eval/results_tables.hpp>
 #include <icrkit/eval/rigid_alignment.hpp>
+#include <icrkit/report/html_report.hpp>
+#include <icrkit/report/quality_plot.hpp>
+#include <icrkit/report/vendored_threejs.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -28,13 +30,6 @@
 #include <sstream>
 
 namespace icrkit::app {
-
-// Written at build time by scripts/vendor-threejs.sh (empty strings when
-// three.js could not be vendored).
-std::string vendoredThreeVersion();
-std::string vendoredThreeModuleBase64();
-std::string vendoredOrbitControlsBase64();
-std::string vendoredThreeLicense();
 
 namespace {
 
@@ -151,7 +146,7 @@ nlohmann::json report(const ReportOptions& o, CommandContext& context) {
   const std::string output = o.output.empty() ? (run_dir / "report.html").string() : o.output;
   if (fs::is_directory(output, error)) throw InputError(output, "", "is a directory; expected the report's file name");
 
-  eval::HtmlReportInput input;
+  report::HtmlReportInput input;
   input.run_dir = o.run_dir;
   input.generated_by = "Written by icrkit report.";
   auto missing = [&](const std::string& file, const std::string& what) {
@@ -206,7 +201,7 @@ nlohmann::json report(const ReportOptions& o, CommandContext& context) {
       missing(name, "Fig. 8 for " + std::to_string(fingers) + " fingers");
       if (have_records)
         input.histograms.push_back({name + " (recomputed from grasps.jsonl)",
-                                    eval::qualityHistogramSvg(eval::cumulativeQualityHistogram(records, fingers))});
+                                    report::qualityHistogramSvg(eval::cumulativeQualityHistogram(records, fingers))});
     }
   }
 
@@ -311,8 +306,8 @@ nlohmann::json report(const ReportOptions& o, CommandContext& context) {
       const std::vector<int>& contacts = !grasp ? none : cad ? grasp->cad_contacts : raw ? grasp->raw.contacts : grasp->filtered.contacts;
       const auto& mesh_regions = cad ? regions.cad : raw ? regions.raw : regions.filtered;
       input.meshes.push_back(
-          eval::makeReportMesh(l.key, l.label, l.path.string(), *l.mesh, mesh_regions, contacts, o.max_faces));
-      const eval::ReportMesh& m = input.meshes.back();
+          report::makeReportMesh(l.key, l.label, l.path.string(), *l.mesh, mesh_regions, contacts, o.max_faces));
+      const report::ReportMesh& m = input.meshes.back();
       mesh_summary.push_back({{"mesh", l.key},
                               {"file", l.path.string()},
                               {"vertices", m.positions.size()},
@@ -321,14 +316,14 @@ nlohmann::json report(const ReportOptions& o, CommandContext& context) {
     }
     viewer["meshes"] = mesh_summary;
   }
-  input.three_version = vendoredThreeVersion();
-  input.three_module_base64 = vendoredThreeModuleBase64();
-  input.orbit_controls_base64 = vendoredOrbitControlsBase64();
-  input.three_license = vendoredThreeLicense();
+  input.three_version = report::vendoredThreeVersion();
+  input.three_module_base64 = report::vendoredThreeModuleBase64();
+  input.orbit_controls_base64 = report::vendoredOrbitControlsBase64();
+  input.three_license = report::vendoredThreeLicense();
   viewer["threejs"] = input.three_version.empty() ? nlohmann::json(nullptr) : nlohmann::json(input.three_version);
   if (input.three_version.empty()) context.note("icrkit report: three.js was not vendored at build time; no 3D viewer");
 
-  const eval::HtmlReport page = eval::buildHtmlReport(input);
+  const report::HtmlReport page = report::buildHtmlReport(input);
   writeFileAtomically(output, [&](std::ostream& out) { out << page.html; });
   for (const std::string& m : input.missing) context.note("icrkit report: missing " + m);
   return {{"output", output},

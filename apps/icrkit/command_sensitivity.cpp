@@ -13,13 +13,14 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_normals.hpp>
-#include <icrkit/eval/experiment_outputs.hpp>
 #include <icrkit/eval/results_tables.hpp>
 #include <icrkit/eval/sensitivity_study.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 #include <icrkit/ndt/preselection.hpp>
 #include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+#include <icrkit/report/experiment_outputs.hpp>
+#include <icrkit/report/sensitivity_plot.hpp>
 #include <icrkit/sim/cad_objects.hpp>
 
 #include <cmath>
@@ -171,14 +172,14 @@ nlohmann::json sensitivity(const SensitivityOptions& o, CommandContext& context)
                      {"datasets", datasets}};
   // Only when asked for: runs without it keep their run.json.
   if (window_angle < M_PI) run["sensitivity"]["window_normal_angle_rad"] = window_angle;
-  eval::ExperimentOutputs outputs;
+  report::ExperimentOutputs outputs;
   outputs.dataset_order = order;
   outputs.finger_counts = params.experiment.finger_counts;
   outputs.run_json = run.dump();
-  eval::WrittenOutputs written = eval::writeExperimentOutputs(o.output, result.records, outputs);
+  report::WrittenOutputs written = report::writeExperimentOutputs(o.output, result.records, outputs);
   const eval::SensitivityTable table =
       eval::computeSensitivityTable(result.records, object, result.spacing_m, params.noise_levels, rules);
-  for (const std::string& f : eval::writeSensitivityOutputs(o.output, table)) written.files.push_back(f);
+  for (const std::string& f : report::writeSensitivityOutputs(o.output, table)) written.files.push_back(f);
   return {{"output", o.output},
           {"object", object},
           {"spacing_m", result.spacing_m},

@@ -28,7 +28,7 @@ struct SmoothOptions {
   std::string radius = "4x";
   int passes = 1;
   std::string preselection = "default";
-  bool no_preselect = false;  ///< the older spelling of --preselection none
+  bool no_preselect = false;  ///< --no-preselection: the same as --preselection none
   std::optional<double> cardinality_threshold;
   std::optional<double> flatness_threshold;
   std::string viewpoint;
@@ -136,7 +136,9 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--passes", options->passes, "Smoothing passes k, each from the previous pass's output")
       ->capture_default_str();
   addPreselectionOption(*command, options->preselection, "marking points as excluded");
-  command->add_flag("--no-preselect", options->no_preselect, "Same as --preselection none: no 'excluded' flags");
+  command->add_flag("--no-preselection", options->no_preselect, "Same as --preselection none: no 'excluded' flags");
+  // The older spelling, still accepted, not shown: every command says --no-preselection now.
+  command->add_flag("--no-preselect", options->no_preselect)->group("");
   command->add_option("--cardinality-threshold", options->cardinality_threshold,
                       "Exclude points whose window holds fewer points (default: the rule's own threshold)");
   command->add_option("--flatness-threshold", options->flatness_threshold,

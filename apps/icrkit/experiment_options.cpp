@@ -6,8 +6,8 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/eval/grasp_regions.hpp>
-#include <icrkit/eval/grasp_render.hpp>
 #include <icrkit/eval/rigid_alignment.hpp>
+#include <icrkit/report/grasp_render.hpp>
 
 #include <filesystem>
 #include <tuple>
@@ -254,10 +254,10 @@ std::vector<std::string> writeGraspRenders(const std::string& directory, const E
     for (const auto& [label, scan, scan_regions, contacts] :
          {std::tuple{std::string("filtered"), meshes.filtered, &regions.filtered, &record.filtered.contacts},
           std::tuple{std::string("raw"), meshes.raw, &regions.raw, &record.raw.contacts}}) {
-      const eval::RgbImage image = eval::renderGraspComparison(*meshes.cad, regions.cad, record.cad_contacts, *scan,
+      const report::RgbImage image = report::renderGraspComparison(*meshes.cad, regions.cad, record.cad_contacts, *scan,
                                                                *scan_regions, *contacts, label);
       files.push_back((dir / (stem + "_" + label + ".png")).string());
-      eval::writePng(files.back(), image);
+      report::writePng(files.back(), image);
     }
   }
   return files;

@@ -5,6 +5,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/eval/conservative_summary.hpp>
 #include <icrkit/eval/experiment.hpp>
+#include <icrkit/report/conservative_plot.hpp>
 
 #include "experiment_test_support.hpp"
 
@@ -84,8 +85,8 @@ TEST(ExperimentConservative, KZeroRepeatsThePlainRegionsAndLargerKShrinksThem) {
   EXPECT_GT(*plain.filtered.picksHeldPercent(), 80.0);
   EXPECT_GT(plain.filtered.aimed_known, 0u);
   EXPECT_GT(*plain.filtered.aimedHeldPercent(), 80.0);
-  EXPECT_NE(conservativeCurveSvg(summary).find("<polyline"), std::string::npos);
-  EXPECT_NE(conservativeSummaryMarkdown(summary).find("| All | K 3 |"), std::string::npos);
+  EXPECT_NE(report::conservativeCurveSvg(summary).find("<polyline"), std::string::npos);
+  EXPECT_NE(report::conservativeSummaryMarkdown(summary).find("| All | K 3 |"), std::string::npos);
 }
 
 // On the CAD mesh itself every region is the CAD region: by the ICR

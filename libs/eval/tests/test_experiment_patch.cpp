@@ -5,6 +5,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/eval/conservative_summary.hpp>
 #include <icrkit/eval/experiment.hpp>
+#include <icrkit/report/conservative_plot.hpp>
 
 #include "experiment_test_support.hpp"
 
@@ -80,13 +81,13 @@ TEST(ExperimentPatch, OnThePerfectReconstructionThePatchRegionsAreTheCadOnes) {
   EXPECT_EQ(patch.filtered.aimed_known, studied);
   EXPECT_EQ(patch.filtered.aimed_held, studied);
   EXPECT_EQ(patch.filtered.grasps_with_picks, 0u);
-  EXPECT_NE(conservativeSummaryMarkdown(summary).find("| All | patch 6 mm |"), std::string::npos);
+  EXPECT_NE(report::conservativeSummaryMarkdown(summary).find("| All | patch 6 mm |"), std::string::npos);
   const std::string json = conservativeSummaryJson(summary);
   EXPECT_NE(json.find("\"growth\": \"patch\""), std::string::npos);
   EXPECT_NE(json.find("\"patch_radius_m\": 0.006"), std::string::npos);
   EXPECT_NE(json.find("\"patch_radii_m\""), std::string::npos);
   EXPECT_NE(json.find("\"studied_grasps\""), std::string::npos);
-  EXPECT_NE(conservativeCurveSvg(summary).find("patch 6 mm"), std::string::npos);
+  EXPECT_NE(report::conservativeCurveSvg(summary).find("patch 6 mm"), std::string::npos);
 }
 
 // The study sits beside the paper's experiment: with it or without it the

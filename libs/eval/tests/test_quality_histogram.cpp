@@ -1,6 +1,7 @@
 #include <icrkit/eval/quality_histogram.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/report/quality_plot.hpp>
 
 #include <gtest/gtest.h>
 
@@ -140,7 +141,7 @@ TEST(QualityHistogram, JsonCarriesTheNumbers) {
 
 TEST(QualityHistogram, SvgIsWellFormedWithTitleLegendAndBars) {
   const QualityHistogram h = cumulativeQualityHistogram(handMadeRecords(), 4);
-  const std::string svg = qualityHistogramSvg(h);
+  const std::string svg = report::qualityHistogramSvg(h);
   expectWellFormedXml(svg);
   EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
   EXPECT_NE(svg.find("Cumulative Q_n, 4 fingers"), std::string::npos);
@@ -151,26 +152,26 @@ TEST(QualityHistogram, SvgIsWellFormedWithTitleLegendAndBars) {
   EXPECT_NE(svg.find("fill=\"#e6550d\""), std::string::npos);
   EXPECT_NE(svg.find("fill=\"#3182bd\""), std::string::npos);
   EXPECT_NE(svg.find("Q_n &gt;= 0.7: 25.0 % (1 of 4)"), std::string::npos);
-  EXPECT_EQ(qualityHistogramSvg(h), svg) << "deterministic";
+  EXPECT_EQ(report::qualityHistogramSvg(h), svg) << "deterministic";
 
-  QualityPlotOptions options;
+  report::QualityPlotOptions options;
   options.title = "Ampersand & <angle>";
-  const std::string custom = qualityHistogramSvg(h, options);
+  const std::string custom = report::qualityHistogramSvg(h, options);
   expectWellFormedXml(custom);
   EXPECT_NE(custom.find("Ampersand &amp; &lt;angle&gt;"), std::string::npos);
 
   options.raw_color = "red";
-  EXPECT_THROW(qualityHistogramSvg(h, options), InputError);
+  EXPECT_THROW(report::qualityHistogramSvg(h, options), InputError);
 }
 
 TEST(QualityHistogram, PngDecodesToThePlot) {
   test::ScratchDir scratch;
   const QualityHistogram h = cumulativeQualityHistogram(handMadeRecords(), 4);
   const std::string path = scratch.file("fig8_4fingers.png");
-  writeQualityHistogramPng(path, h);
+  report::writeQualityHistogramPng(path, h);
   const cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty());
-  const QualityPlotOptions defaults;
+  const report::QualityPlotOptions defaults;
   EXPECT_EQ(image.cols, defaults.width);
   EXPECT_EQ(image.rows, defaults.height);
 
@@ -187,15 +188,15 @@ TEST(QualityHistogram, PngDecodesToThePlot) {
   EXPECT_GT(darkPixels, 500u);  // axes, ticks and text
 
   // Same bytes from the encoder and the file, every time.
-  const std::vector<unsigned char> png = qualityHistogramPng(h);
+  const std::vector<unsigned char> png = report::qualityHistogramPng(h);
   const std::string file = test::readWholeFile(path);
   EXPECT_EQ(std::string(png.begin(), png.end()), file);
-  EXPECT_EQ(qualityHistogramPng(h), png);
+  EXPECT_EQ(report::qualityHistogramPng(h), png);
 
-  QualityPlotOptions small;
+  report::QualityPlotOptions small;
   small.width = 400;
   small.height = 300;
-  const cv::Mat smallImage = cv::imdecode(qualityHistogramPng(h, small), cv::IMREAD_COLOR);
+  const cv::Mat smallImage = cv::imdecode(report::qualityHistogramPng(h, small), cv::IMREAD_COLOR);
   EXPECT_EQ(smallImage.cols, 400);
   EXPECT_EQ(smallImage.rows, 300);
 }
@@ -203,11 +204,11 @@ TEST(QualityHistogram, PngDecodesToThePlot) {
 TEST(QualityHistogram, WritesSvgAndJsonFiles) {
   test::ScratchDir scratch;
   const QualityHistogram h = cumulativeQualityHistogram(handMadeRecords(), 5);
-  writeQualityHistogramSvg(scratch.file("fig8_5fingers.svg"), h);
+  report::writeQualityHistogramSvg(scratch.file("fig8_5fingers.svg"), h);
   writeQualityHistogramJson(scratch.file("fig8_5fingers.json"), h);
   const std::string svg = test::readWholeFile(scratch.file("fig8_5fingers.svg"));
   EXPECT_NE(svg.find("Cumulative Q_n, 5 fingers"), std::string::npos);
-  EXPECT_EQ(svg, qualityHistogramSvg(h));
+  EXPECT_EQ(svg, report::qualityHistogramSvg(h));
   EXPECT_EQ(nlohmann::json::parse(test::readWholeFile(scratch.file("fig8_5fingers.json")))["raw"]["counts"].back().get<int>(), 2);
 }
 

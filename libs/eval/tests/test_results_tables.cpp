@@ -1,6 +1,7 @@
 #include <icrkit/eval/results_tables.hpp>
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/report/table_one_text.hpp>
 
 #include <gtest/gtest.h>
 
@@ -338,7 +339,7 @@ TEST(TableWriters, WritesAllFourFiles) {
   records.push_back(evaluated("cup_sr4000_A", 4, 0, {{55, 2}, {57, 2}}, {{14, 0}, {14, 0}}));
   records.push_back(notEvaluated("cup_sr4000_A", 5, 0, false, true, true));
   records.push_back(notEvaluated("my, \"odd\" | set", 4, 0, false, false, false));
-  writeResultsTables(scratch.path().string(), records);
+  report::writeResultsTables(scratch.path().string(), records);
 
   const std::string md = test::readWholeFile(scratch.file("table1.md"));
   EXPECT_NE(md.find("| cup_sr4000_A | 1 | 56.0 | 2.0 | 14.0 | 0.0 | 56.0 / 2.0 | 14.0 / 0.0 | 2 | 0 |"),
@@ -387,7 +388,7 @@ TEST(TableWriters, WritesAllFourFiles) {
 
   // Deterministic: writing again gives the same bytes.
   const std::string before = md + csv;
-  writeResultsTables(scratch.path().string(), records);
+  report::writeResultsTables(scratch.path().string(), records);
   EXPECT_EQ(test::readWholeFile(scratch.file("table1.md")) + test::readWholeFile(scratch.file("table1.csv")), before);
 }
 

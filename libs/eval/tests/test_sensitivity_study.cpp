@@ -6,6 +6,7 @@
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
 #include <icrkit/eval/sensitivity_study.hpp>
+#include <icrkit/report/sensitivity_plot.hpp>
 
 #include <gtest/gtest.h>
 
@@ -81,9 +82,9 @@ TEST(SensitivityStudy, APerfectReconstructionGivesTheWholeRegionAndEqualFalsePos
   }
   EXPECT_EQ(table.rows[0].rule, "default");
   EXPECT_EQ(table.rows[3].noise_level, 0.5);
-  EXPECT_NE(sensitivityMarkdown(table).find("| 0.50 | 2.000 | none |"), std::string::npos);
-  EXPECT_NE(sensitivitySvg(table).find("<polyline"), std::string::npos);
-  EXPECT_GT(sensitivityPng(table).size(), 1000u);
+  EXPECT_NE(report::sensitivityMarkdown(table).find("| 0.50 | 2.000 | none |"), std::string::npos);
+  EXPECT_NE(report::sensitivitySvg(table).find("<polyline"), std::string::npos);
+  EXPECT_GT(report::sensitivityPng(table).size(), 1000u);
 }
 
 TEST(SensitivityStudy, ShardsCoverTheStudyOnceAndBuildOnlyTheirLevels) {

@@ -9,8 +9,8 @@
 #include <icrkit/core/mesh_topology.hpp>
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/grasp_regions.hpp>
-#include <icrkit/eval/mesh_render.hpp>
 #include <icrkit/eval/rigid_alignment.hpp>
+#include <icrkit/report/mesh_render.hpp>
 
 #include "experiment_test_support.hpp"
 
@@ -153,21 +153,21 @@ TEST(UnreferencedVertices, AlignmentAndRendersIgnoreThem) {
   EXPECT_EQ(dirty.pairs, clean.pairs);
 
   const StrayMesh cad_s = strayed(cad);
-  const BoundingSphere a = boundingSphere(cad), b = boundingSphere(cad_s.mesh);
+  const report::BoundingSphere a = report::boundingSphere(cad), b = report::boundingSphere(cad_s.mesh);
   EXPECT_EQ(a.centre, b.centre);
   EXPECT_EQ(a.radius, b.radius);
-  RenderStyle style;
+  report::RenderStyle style;
   style.width = 96;
   style.height = 72;
-  const std::vector<RenderCamera> cameras = orbitCameras(cad_s.mesh);
-  ASSERT_EQ(cameras.size(), orbitCameras(cad).size());
+  const std::vector<report::RenderCamera> cameras = report::orbitCameras(cad_s.mesh);
+  ASSERT_EQ(cameras.size(), report::orbitCameras(cad).size());
   const std::vector<int> region{10, 11, 12, 50, 51};
-  SurfaceColours clean_colours, dirty_colours;
-  clean_colours.per_vertex = regionColours(cad, {0}, {region}, style.base_colour);
-  dirty_colours.per_vertex = regionColours(cad_s.mesh, {0}, {renumbered(region, cad_s.new_index)}, style.base_colour);
-  const MeshRenderer clean_renderer(cad), dirty_renderer(cad_s.mesh);
+  report::SurfaceColours clean_colours, dirty_colours;
+  clean_colours.per_vertex = report::regionColours(cad, {0}, {region}, style.base_colour);
+  dirty_colours.per_vertex = report::regionColours(cad_s.mesh, {0}, {renumbered(region, cad_s.new_index)}, style.base_colour);
+  const report::MeshRenderer clean_renderer(cad), dirty_renderer(cad_s.mesh);
   for (std::size_t c = 0; c < cameras.size(); ++c) {
-    EXPECT_EQ(cameras[c].eye, orbitCameras(cad)[c].eye);
+    EXPECT_EQ(cameras[c].eye, report::orbitCameras(cad)[c].eye);
     EXPECT_EQ(dirty_renderer.render(cameras[c], style, dirty_colours).rgb,
               clean_renderer.render(cameras[c], style, clean_colours).rgb)
         << cameras[c].name;

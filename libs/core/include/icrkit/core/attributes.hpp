@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Named per-element attributes (per point, per vertex), e.g. `cardinality`,
-/// `flatness`, `excluded`, `region` (see docs/design.md for the shared names).
+/// `flatness`, `excluded`, `region` (docs/formats.md lists the shared names
+/// and which command writes each).
 ///
 /// Values are held as double, which represents every PLY/PCD scalar type
 /// exactly; the declared scalar type is what a writer puts in the file, so

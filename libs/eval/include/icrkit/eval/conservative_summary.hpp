@@ -8,9 +8,9 @@
 /// the task on the CAD mesh (MeshOutcome::picks), and how many grasps of
 /// the recommended contacts do. Records of the patch-contact study
 /// (GraspRecord::patch) add a row per patch radius, measured against the CAD
-/// patch regions and with the aimed grasp only (no random picks). Written as
-/// conservative.{json,md,svg} (the svg: the Int-vs-FP curve over K, patch
-/// rows as separate points).
+/// patch regions and with the aimed grasp only (no random picks). Its JSON
+/// form is here; the Markdown table and the Int-vs-FP curve are
+/// icrkit/report/conservative_plot.hpp.
 
 #include <icrkit/eval/experiment_records.hpp>
 
@@ -64,13 +64,5 @@ struct ConservativeSummary {
 ConservativeSummary computeConservativeSummary(const std::vector<GraspRecord>& records);
 
 std::string conservativeSummaryJson(const ConservativeSummary& summary);
-std::string conservativeSummaryMarkdown(const ConservativeSummary& summary);
-/// Median Int against median FP of the pooled rows, one polyline per mesh
-/// type, each point labelled with its K (plain growth as "plain").
-std::string conservativeCurveSvg(const ConservativeSummary& summary);
-
-/// Writes conservative.json, conservative.md and conservative.svg into
-/// `directory` (atomically) and returns their paths.
-std::vector<std::string> writeConservativeSummary(const std::string& directory, const ConservativeSummary& summary);
 
 }  // namespace icrkit::eval

@@ -22,7 +22,7 @@
 #include <icrkit/core/progress.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
 #include <icrkit/eval/experiment_records.hpp>
-#include <icrkit/eval/mesh_distances.hpp>
+#include <icrkit/eval/geodesic_distances.hpp>
 #include <icrkit/eval/normal_line_mappings.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
 #include <icrkit/icr/patch_contacts.hpp>
@@ -58,7 +58,7 @@ struct ExperimentConfig {
   MappingParameters mapping;         ///< eqs. (2), (3) and Algorithm 2
   DistanceMetric metric = DistanceMetric::Geodesic;  ///< for Q_n
   /// Geodesic paths: edges plus unfolded diagonals overestimate surface
-  /// geodesics by ~1.5 % on average (edges alone: ~7 %, mesh_distances.hpp).
+  /// geodesics by ~1.5 % on average (edges alone: ~7 %, geodesic_distances.hpp).
   GeodesicPaths paths = GeodesicPaths::EdgesAndUnfoldedDiagonals;
   /// Honour the filtered mesh's `excluded` attribute (the paper's
   /// preselection): G^F must avoid excluded vertices and regions never

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Fig. 8: cumulative histograms of the region quality Q_n = d2 / d1 on raw
-/// and filtered meshes, and their SVG and PNG plots.
+/// and filtered meshes (the figures themselves: icrkit/report/quality_plot.hpp).
 ///
 /// Bars. For t = 1.0, 0.9, ..., 0.0 the bar at t is the percentage of regions
 /// whose Q_n >= t, among all regions of evaluated grasps (all datasets, one
@@ -41,31 +41,9 @@ struct QualityHistogram {
 /// Over all datasets' evaluated grasps with `fingers` fingers (0: all).
 QualityHistogram cumulativeQualityHistogram(const std::vector<GraspRecord>& records, std::size_t fingers);
 
-/// Looks of the plot; the defaults make a figure that reads like Fig. 8.
-struct QualityPlotOptions {
-  int width = 720;                           ///< pixels (SVG user units)
-  int height = 440;
-  std::string title;                         ///< empty: "Cumulative Q_n, N fingers"
-  std::string raw_color = "#e6550d";         ///< orange
-  std::string filtered_color = "#3182bd";    ///< blue
-};
-
-/// The title used when `options.title` is empty.
-std::string qualityPlotTitle(const QualityHistogram& histogram, const QualityPlotOptions& options = {});
-
 /// {"fingers", "evaluated_grasps", "labels", "thresholds", "raw": {...}, "filtered": {...}}.
 std::string qualityHistogramJson(const QualityHistogram& histogram);
-/// A self-contained SVG document (no scripts, no external fonts).
-std::string qualityHistogramSvg(const QualityHistogram& histogram, const QualityPlotOptions& options = {});
-/// The same plot rasterized with OpenCV, PNG-encoded.
-std::vector<unsigned char> qualityHistogramPng(const QualityHistogram& histogram,
-                                               const QualityPlotOptions& options = {});
-
-/// Atomic writers of the forms above.
+/// Atomic writer of the JSON form.
 void writeQualityHistogramJson(const std::string& path, const QualityHistogram& histogram);
-void writeQualityHistogramSvg(const std::string& path, const QualityHistogram& histogram,
-                              const QualityPlotOptions& options = {});
-void writeQualityHistogramPng(const std::string& path, const QualityHistogram& histogram,
-                              const QualityPlotOptions& options = {});
 
 }  // namespace icrkit::eval

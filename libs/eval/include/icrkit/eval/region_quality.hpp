@@ -24,7 +24,7 @@
 /// in the component holding most of its vertices (ties: the one holding the
 /// lowest index), the others are ignored and counted.
 
-#include <icrkit/eval/mesh_distances.hpp>
+#include <icrkit/eval/geodesic_distances.hpp>
 
 #include <icrkit/core/triangle_mesh.hpp>
 

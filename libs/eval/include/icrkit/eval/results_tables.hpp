@@ -2,8 +2,8 @@
 /// \file
 /// Table I (median intersection and false-positive areas per dataset) and the
 /// eligibility rates of Section V, computed from grasp records, the paper's
-/// published values for comparison, and the table1.{md,csv,json} and
-/// eligibility.json writers.
+/// published values for comparison, and their JSON forms (table1.json,
+/// eligibility.json).
 
 #include <icrkit/eval/experiment_records.hpp>
 
@@ -131,28 +131,16 @@ PaperTableOne paperTableOne();
 /// The paper's row for one of our dataset names (or "Average"), if it has one.
 std::optional<PaperTableOneRow> paperTableOneRow(const std::string& dataset);
 
-/// Text forms (deterministic; also used by the HTML report).
-/// Markdown: Int/FP with one decimal, "–" for unset, and the paper's values
-/// next to ours for the paper's datasets.
-std::string tableOneMarkdown(const TableOne& table);
-/// CSV: one header line, one line per row then Average; unset is empty;
-/// numbers with full precision.
-std::string tableOneCsv(const TableOne& table);
+/// Data forms (deterministic; the Markdown and CSV tables are
+/// icrkit/report/table_one_text.hpp).
 /// JSON: {"fingers", "rows": [...], "average": {...}}; unset is null.
 std::string tableOneJson(const TableOne& table);
 /// JSON: {"datasets": [...], "overall": {...}, "paper": {...}, "notes": {...}};
 /// unset is null. "notes" says what the after-snapping counts mean.
 std::string eligibilityJson(const EligibilitySummary& summary);
 
-/// Atomic writers of the forms above.
-void writeTableOneMarkdown(const std::string& path, const TableOne& table);
-void writeTableOneCsv(const std::string& path, const TableOne& table);
+/// Atomic writers of the JSON forms above.
 void writeTableOneJson(const std::string& path, const TableOne& table);
 void writeEligibilityJson(const std::string& path, const EligibilitySummary& summary);
-
-/// Computes both and writes DIR/table1.md, DIR/table1.csv, DIR/table1.json and
-/// DIR/eligibility.json (DIR must exist).
-void writeResultsTables(const std::string& directory, const std::vector<GraspRecord>& records,
-                        const TableOneOptions& options = {});
 
 }  // namespace icrkit::eval

@@ -125,14 +125,8 @@ SensitivityTable computeSensitivityTable(const std::vector<GraspRecord>& records
                                          double spacing_m, const std::vector<double>& noise_levels,
                                          const std::vector<std::string>& rules);
 
-std::string sensitivityMarkdown(const SensitivityTable& table);
+/// The table as JSON (sensitivity.json; the Markdown table and the plot are
+/// icrkit/report/sensitivity_plot.hpp).
 std::string sensitivityJson(const SensitivityTable& table);
-/// Three panels (eligibility, Int, FP against noise), the raw mesh in black,
-/// one coloured line per rule for the filtered meshes.
-std::string sensitivitySvg(const SensitivityTable& table);
-std::vector<unsigned char> sensitivityPng(const SensitivityTable& table);
-
-/// DIR/sensitivity.{md,json,svg,png}; returns the paths.
-std::vector<std::string> writeSensitivityOutputs(const std::string& directory, const SensitivityTable& table);
 
 }  // namespace icrkit::eval

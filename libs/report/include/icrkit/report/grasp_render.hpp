@@ -7,12 +7,12 @@
 /// `icrkit evaluate/paper --renders N` (RUN_DIR/renders/) for the report.
 
 #include <icrkit/core/triangle_mesh.hpp>
-#include <icrkit/eval/mesh_render.hpp>
+#include <icrkit/report/mesh_render.hpp>
 
 #include <string>
 #include <vector>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 
 struct GraspRenderParameters {
   int view_width = 480;   ///< pixels per view
@@ -46,4 +46,4 @@ RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::v
                                const std::vector<int>& scan_contacts, const std::string& scan_label,
                                const GraspRenderParameters& params = {});
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

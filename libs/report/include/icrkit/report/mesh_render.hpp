@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 
 struct RgbImage {
   int width = 0;
@@ -265,4 +265,4 @@ std::vector<Eigen::Vector3f> scanComparisonColours(const TriangleMesh& scan,
                                                    const std::vector<std::vector<std::uint8_t>>& inside,
                                                    const Eigen::Vector3f& base, const ComparisonPalette& palette = {});
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

@@ -1,13 +1,20 @@
-#include <icrkit/eval/grasp_render.hpp>
+#include <icrkit/report/grasp_render.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
-#include <icrkit/eval/mesh_distances.hpp>
+#include <icrkit/eval/geodesic_distances.hpp>
 #include <icrkit/eval/region_quality.hpp>
 
 #include <algorithm>
 
-namespace icrkit::eval {
+namespace icrkit::report {
+
+using eval::centralPoint;
+using eval::DistanceMetric;
+using eval::DistanceWorkspace;
+using eval::IntersectionEstimator;
+using eval::MeshDistanceGraph;
+using eval::RegionIntersection;
 namespace {
 
 const Eigen::Vector3f kContact(0.1f, 0.1f, 0.1f);
@@ -107,4 +114,4 @@ RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::v
   return appendLegend(tileImages(tiles, static_cast<int>(cameras.size())), legend);
 }
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

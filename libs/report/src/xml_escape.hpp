@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace icrkit::eval::detail {
+namespace icrkit::report::detail {
 
 inline std::string xmlEscape(const std::string& text) {
   std::string out;
@@ -22,4 +22,4 @@ inline std::string xmlEscape(const std::string& text) {
   return out;
 }
 
-}  // namespace icrkit::eval::detail
+}  // namespace icrkit::report::detail

@@ -1,4 +1,4 @@
-#include <icrkit/eval/table_one_plot.hpp>
+#include <icrkit/report/table_one_plot.hpp>
 
 #include "xml_escape.hpp"
 
@@ -12,7 +12,12 @@
 #include <cstdio>
 #include <optional>
 
-namespace icrkit::eval {
+namespace icrkit::report {
+
+using eval::PaperTableOneRow;
+using eval::TableOne;
+using eval::TableOneRow;
+using eval::paperTableOneRow;
 namespace {
 
 // One layout for both forms: cells of text in a grid, positions in pixels.
@@ -133,4 +138,4 @@ void writeTableOnePng(const std::string& path, const TableOne& table) {
   });
 }
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

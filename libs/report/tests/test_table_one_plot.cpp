@@ -1,12 +1,14 @@
 // Table I as SVG and PNG.
 
-#include <icrkit/eval/table_one_plot.hpp>
+#include <icrkit/report/table_one_plot.hpp>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 namespace {
+
+using namespace icrkit::eval;
 
 TableOne sampleTable() {
   TableOne table;
@@ -50,4 +52,4 @@ TEST(TableOnePlot, PngDecodesAndIsNotBlank) {
 }
 
 }  // namespace
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

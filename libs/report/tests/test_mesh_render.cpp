@@ -3,7 +3,7 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
-#include <icrkit/eval/mesh_render.hpp>
+#include <icrkit/report/mesh_render.hpp>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -14,8 +14,9 @@
 #include <fstream>
 #include <iterator>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 namespace {
+
 
 using Pixel = std::array<std::uint8_t, 3>;
 
@@ -292,4 +293,4 @@ TEST(MeshRender, ComparisonColoursFollowIntersectionAndInsideFlags) {
 }
 
 }  // namespace
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

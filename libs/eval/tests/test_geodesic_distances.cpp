@@ -1,6 +1,6 @@
 #include "eval_test_meshes.hpp"
 
-#include <icrkit/eval/mesh_distances.hpp>
+#include <icrkit/eval/geodesic_distances.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
@@ -210,7 +210,7 @@ std::ostream& operator<<(std::ostream& out, const Overestimate& o) {
 }
 
 TEST(MeshDistances, SphereOverestimateIsBounded) {
-  // The figures quoted in mesh_distances.hpp come from here (pairs at least
+  // The figures quoted in geodesic_distances.hpp come from here (pairs at least
   // 5 / 20 mean edge lengths apart, 7 sources).
   const TriangleMesh ico = makeIcosphere(5);
   const TriangleMesh uv = test::uvSphere(64, 128);

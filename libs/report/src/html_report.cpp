@@ -1,4 +1,6 @@
-#include <icrkit/eval/html_report.hpp>
+#include <icrkit/report/html_report.hpp>
+
+#include "report_assets.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -10,8 +12,19 @@
 #include <limits>
 #include <sstream>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 namespace {
+
+using eval::EligibilityCounts;
+using eval::EligibilityGroup;
+using eval::EligibilitySummary;
+using eval::MeshMedians;
+using eval::PaperTableOne;
+using eval::PaperTableOneRow;
+using eval::TableOne;
+using eval::TableOneRow;
+using eval::paperTableOne;
+using eval::paperTableOneRow;
 
 // --- small formatting helpers --------------------------------------------
 
@@ -75,256 +88,8 @@ std::string inlineSvg(const std::string& svg) {
   return start == std::string::npos ? htmlEscape(svg) : svg.substr(start);
 }
 
-// --- the page's fixed parts ----------------------------------------------
-
-const char* const kStyle = R"CSS(
-body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; margin: 0; color: #222; background: #fafafa; }
-header { background: #263238; color: #eceff1; padding: 12px 24px; }
-header h1 { margin: 0 0 4px 0; font-size: 1.4em; }
-header p { margin: 2px 0; font-size: 0.9em; }
-nav { padding: 6px 24px; background: #eceff1; font-size: 0.9em; }
-nav a { margin-right: 14px; color: #1565c0; }
-main { padding: 8px 24px 24px 24px; }
-section { margin: 14px 0 22px 0; }
-h2 { font-size: 1.15em; border-bottom: 1px solid #cfd8dc; padding-bottom: 3px; }
-table { border-collapse: collapse; font-size: 0.88em; background: #fff; }
-th, td { border: 1px solid #cfd8dc; padding: 3px 8px; text-align: right; }
-th { background: #eceff1; }
-td.name, th.name { text-align: left; }
-td.paper { color: #607d8b; background: #f5f7f8; }
-tr.average td { font-weight: 600; border-top: 2px solid #90a4ae; }
-.note { color: #546e7a; font-size: 0.85em; max-width: 70em; }
-.missing { background: #fff3e0; border: 1px solid #ffb74d; padding: 6px 14px; }
-.warnings { background: #fffde7; border: 1px solid #fdd835; padding: 6px 14px; }
-.unavailable { background: #eceff1; border: 1px dashed #90a4ae; padding: 14px; color: #37474f; }
-#viewer { width: 100%; height: 560px; display: block; background: #fff; border: 1px solid #cfd8dc; }
-.viewer-controls { display: flex; flex-wrap: wrap; gap: 6px 22px; margin: 6px 0; font-size: 0.9em; align-items: center; }
-.viewer-controls label { white-space: nowrap; }
-.swatch { display: inline-block; width: 0.9em; height: 0.9em; border: 1px solid #555; vertical-align: -0.1em; margin-right: 3px; }
-.figures { display: flex; flex-wrap: wrap; gap: 16px; }
-.figures figure { margin: 0; background: #fff; border: 1px solid #cfd8dc; padding: 6px; }
-.figures svg, .figures img { max-width: 100%; height: auto; display: block; }
-.figures img { max-width: 620px; }
-figcaption { font-size: 0.8em; color: #546e7a; margin-top: 4px; }
-pre { background: #fff; border: 1px solid #cfd8dc; padding: 8px; overflow: auto; font-size: 0.8em; max-height: 30em; }
-#report-status { max-height: 6em; color: #78909c; }
-)CSS";
-
-// Installed first so that every error of the page, including three.js's
-// console.error messages, is visible to a test through #report-status.
-const char* const kStatusScript = R"JS(
-window.icrkitReport = { errors: [], ready: false, viewer: 'pending' };
-(function () {
-  var report = window.icrkitReport;
-  report.update = function () {
-    var element = document.getElementById('report-status');
-    if (element) element.textContent = JSON.stringify(report);
-  };
-  window.onerror = function (message, source, line) {
-    report.errors.push(String(message) + (line ? ' (line ' + line + ')' : ''));
-    report.update();
-  };
-  window.addEventListener('unhandledrejection', function (event) {
-    var reason = event.reason;
-    report.errors.push('unhandled rejection: ' + (reason && reason.message ? reason.message : String(reason)));
-    report.update();
-  });
-  // The page's Content-Security-Policy forbids every fetch: a violation
-  // means something tried to leave the page.
-  document.addEventListener('securitypolicyviolation', function (event) {
-    report.errors.push('blocked by the page\'s CSP: ' + event.violatedDirective + ' ' + event.blockedURI);
-    report.update();
-  });
-  var consoleError = console.error.bind(console);
-  console.error = function () {
-    report.errors.push(Array.prototype.map.call(arguments, String).join(' '));
-    report.update();
-    consoleError.apply(null, arguments);
-  };
-})();
-)JS";
-
-// The viewer. three.js is an ES module only (r160+), and a page opened from
-// disk may not load module files; so the vendored module text becomes a Blob
-// URL, OrbitControls' `from 'three'` is pointed at it, and both are imported
-// dynamically. Nothing leaves the page.
-const char* const kViewerScript = R"JS(
-const report = window.icrkitReport;
-const message = (text) => { document.getElementById('viewer-message').textContent = text; };
-
-function decodeBase64(text) {
-  const binary = atob(text.trim());
-  const out = new Uint8Array(binary.length);
-  for (let i = 0; i < binary.length; ++i) out[i] = binary.charCodeAt(i);
-  return out;
-}
-
-async function loadThree() {
-  const moduleBytes = decodeBase64(document.getElementById('three-module').textContent);
-  const threeUrl = URL.createObjectURL(new Blob([moduleBytes], { type: 'text/javascript' }));
-  const orbitText = new TextDecoder().decode(decodeBase64(document.getElementById('three-orbit').textContent))
-    .replace(/from\s*['"]three['"]/g, 'from ' + JSON.stringify(threeUrl));
-  const orbitUrl = URL.createObjectURL(new Blob([orbitText], { type: 'text/javascript' }));
-  const THREE = await import(threeUrl);
-  const { OrbitControls } = await import(orbitUrl);
-  return { THREE, OrbitControls };
-}
-
-const FINGER_COLORS = ['#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#17becf', '#e377c2', '#8c564b', '#bcbd22',
-                       '#1f77b4', '#7f7f7f'];
-const MESH_COLORS = { cad: '#bdbdbd', raw: '#d9b48f', filtered: '#9ecae1' };
-
-async function main() {
-  const data = JSON.parse(document.getElementById('viewer-data').textContent);
-  const { THREE, OrbitControls } = await loadThree();
-  const canvas = document.getElementById('viewer');
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(window.devicePixelRatio || 1);
-
-  const scene = new THREE.Scene();
-  scene.background = new THREE.Color('#ffffff');
-  const camera = new THREE.PerspectiveCamera(35, 1, 0.001, 100);
-  camera.up.set(0, 0, 1);  // the datasets are z-up (objects stand on z = 0)
-  scene.add(camera);
-  scene.add(new THREE.HemisphereLight('#ffffff', '#666666', 1.6));
-  // A headlight: lit from where the user looks, whatever the rotation.
-  const headlight = new THREE.DirectionalLight('#ffffff', 1.8);
-  const headTarget = new THREE.Object3D();
-  headTarget.position.set(0, 0, -1);
-  headlight.position.set(0.3, 0.4, 0);
-  camera.add(headlight, headTarget);
-  headlight.target = headTarget;
-
-  const lo = data.box.min, hi = data.box.max;
-  const extent = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
-  const diagonal = Math.hypot(extent[0], extent[1], extent[2]) || 1;
-  const fingerColors = [];
-  for (let f = 0; f < data.fingers; ++f) fingerColors.push(new THREE.Color(FINGER_COLORS[f % FINGER_COLORS.length]));
-  const fingerOn = fingerColors.map(() => true);
-
-  const entries = [];
-  for (const m of data.meshes) {
-    const quantized = new Uint16Array(decodeBase64(m.positions).buffer);
-    const positions = new Float32Array(quantized.length);
-    for (let i = 0; i < quantized.length; i += 3)
-      for (let a = 0; a < 3; ++a) positions[i + a] = lo[a] + (quantized[i + a] / 65535) * extent[a];
-    const geometry = new THREE.BufferGeometry();
-    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-    geometry.setIndex(new THREE.BufferAttribute(new Uint32Array(decodeBase64(m.faces).buffer), 1));
-    geometry.computeVertexNormals();
-    const colors = new Float32Array(positions.length);
-    geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
-    // Reconstructed meshes are not consistently oriented: light both sides.
-    const material = new THREE.MeshStandardMaterial({ vertexColors: true, side: THREE.DoubleSide, roughness: 0.85,
-                                                      metalness: 0.0 });
-    const group = new THREE.Group();
-    group.add(new THREE.Mesh(geometry, material));
-    const spheres = [];
-    m.contacts.forEach((p, finger) => {
-      if (!p) return;
-      const sphere = new THREE.Mesh(new THREE.SphereGeometry(0.015 * diagonal, 16, 12),
-                                    new THREE.MeshStandardMaterial({ color: fingerColors[finger].clone().multiplyScalar(0.6) }));
-      sphere.position.set(p[0], p[1], p[2]);
-      sphere.userData.finger = finger;
-      spheres.push(sphere);
-      group.add(sphere);
-    });
-    scene.add(group);
-    entries.push({ key: m.key, group, geometry, colors, spheres, base: new THREE.Color(MESH_COLORS[m.key] || '#cccccc'),
-                   region: m.region ? new Int8Array(decodeBase64(m.region).buffer) : null });
-  }
-
-  const controls = new OrbitControls(camera, canvas);
-  const render = () => renderer.render(scene, camera);
-  controls.addEventListener('change', render);
-
-  function paint() {
-    for (const e of entries) {
-      const n = e.colors.length / 3;
-      for (let v = 0; v < n; ++v) {
-        const f = e.region ? e.region[v] : -1;
-        const c = f >= 0 && fingerOn[f] ? fingerColors[f] : e.base;
-        e.colors[3 * v] = c.r; e.colors[3 * v + 1] = c.g; e.colors[3 * v + 2] = c.b;
-      }
-      e.geometry.attributes.color.needsUpdate = true;
-      for (const s of e.spheres) s.visible = fingerOn[s.userData.finger];
-    }
-  }
-
-  // Side by side (default): the meshes in a row along x, so that regions on
-  // nearly coincident surfaces do not hide each other; overlaid: as measured.
-  function arrange() {
-    const sideBySide = document.getElementById('layout-side').checked;
-    const shown = entries.filter((e) => e.group.visible);
-    for (const e of entries) e.group.position.set(0, 0, 0);
-    if (sideBySide) shown.forEach((e, i) => { e.group.position.x = (i - (shown.length - 1) / 2) * extent[0] * 1.3; });
-  }
-
-  function fit() {
-    const box = new THREE.Box3();
-    for (const e of entries) if (e.group.visible) box.expandByObject(e.group);
-    if (box.isEmpty()) box.set(new THREE.Vector3(...lo), new THREE.Vector3(...hi));
-    const center = box.getCenter(new THREE.Vector3());
-    const size = box.getSize(new THREE.Vector3());
-    // Frame the row of meshes in both directions: the canvas is wide, so the
-    // vertical field of view alone would leave them small.
-    const halfV = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2));
-    const halfH = halfV * camera.aspect;
-    const halfWidth = Math.hypot(size.x, 0.3 * size.y) / 2, halfHeight = Math.hypot(size.z, size.y) / 2;
-    const distance = (Math.max(halfWidth / halfH, halfHeight / halfV) * 1.3 + size.y / 2) || 1;
-    const direction = new THREE.Vector3(0.25, -1, 0.55).normalize();
-    camera.position.copy(center).addScaledVector(direction, distance);
-    camera.near = distance / 200;
-    camera.far = distance * 20;
-    camera.updateProjectionMatrix();
-    controls.target.copy(center);
-    controls.update();
-  }
-
-  function resize() {
-    const width = canvas.clientWidth || 800, height = canvas.clientHeight || 560;
-    renderer.setSize(width, height, false);
-    camera.aspect = width / height;
-    camera.updateProjectionMatrix();
-    render();
-  }
-
-  for (const e of entries) {
-    const box = document.getElementById('mesh-' + e.key);
-    if (box) box.addEventListener('change', () => { e.group.visible = box.checked; arrange(); render(); });
-  }
-  fingerOn.forEach((_, f) => {
-    const box = document.getElementById('finger-' + f);
-    if (box) box.addEventListener('change', () => { fingerOn[f] = box.checked; paint(); render(); });
-  });
-  for (const id of ['layout-side', 'layout-overlay'])
-    document.getElementById(id).addEventListener('change', () => { arrange(); fit(); render(); });
-  document.getElementById('view-reset').addEventListener('click', () => { fit(); render(); });
-  window.addEventListener('resize', resize);
-
-  paint();
-  arrange();
-  resize();
-  fit();
-  render();
-  const rect = canvas.getBoundingClientRect();
-  report.canvas = { x: Math.round(rect.left + window.scrollX), y: Math.round(rect.top + window.scrollY),
-                    width: Math.round(rect.width), height: Math.round(rect.height) };
-  report.triangles = renderer.info.render.triangles;
-  report.viewer = 'rendered';
-  report.ready = true;
-  report.update();
-  message('Drag to rotate, scroll to zoom, right-drag to pan.');
-}
-
-main().catch((error) => {
-  report.errors.push('viewer: ' + (error && error.message ? error.message : String(error)));
-  report.viewer = 'failed';
-  report.ready = true;
-  report.update();
-  message('3D viewer failed: ' + (error && error.message ? error.message : String(error)));
-});
-)JS";
+// --- the page's fixed parts are files: libs/report/assets/, embedded at build
+// time (report_assets.hpp) ---------------------------------------------------
 
 // --- sections --------------------------------------------------------------
 
@@ -513,7 +278,7 @@ void writeViewer(std::ostringstream& out, const HtmlReportInput& input, HtmlRepo
   out << "<script type=\"text/plain\" id=\"three-module\">" << input.three_module_base64 << "</script>\n";
   out << "<script type=\"text/plain\" id=\"three-orbit\">" << input.orbit_controls_base64 << "</script>\n";
   sizes.threejs = input.three_module_base64.size() + input.orbit_controls_base64.size();
-  out << "<script type=\"module\">" << kViewerScript << "</script>\n</section>\n";
+  out << "<script type=\"module\">" << kReportViewerJs << "</script>\n</section>\n";
 }
 
 }  // namespace
@@ -619,7 +384,7 @@ HtmlReport buildHtmlReport(const HtmlReportInput& input) {
          "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; script-src 'unsafe-inline' blob:; "
          "style-src 'unsafe-inline'; img-src data: blob:\">\n"
          "<title>"
-      << htmlEscape(input.title) << "</title>\n<style>" << kStyle << "</style>\n<script>" << kStatusScript
+      << htmlEscape(input.title) << "</title>\n<style>" << kReportCss << "</style>\n<script>" << kReportStatusJs
       << "</script>\n</head>\n<body>\n<header>\n<h1>" << htmlEscape(input.title) << "</h1>\n<p>Run folder: <code>"
       << htmlEscape(input.run_dir) << "</code></p>\n";
   if (!input.generated_by.empty()) out << "<p>" << htmlEscape(input.generated_by) << "</p>\n";
@@ -692,4 +457,4 @@ HtmlReport buildHtmlReport(const HtmlReportInput& input) {
   return report;
 }
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 
 struct ExperimentOutputs {
   std::vector<std::string> dataset_order;  ///< Table I row order (others follow sorted)
@@ -24,13 +24,13 @@ struct ExperimentOutputs {
 
 struct WrittenOutputs {
   std::vector<std::string> files;  ///< the paths written
-  TableOne table;                  ///< as written, for a command's summary
-  EligibilitySummary eligibility;
+  eval::TableOne table;                  ///< as written, for a command's summary
+  eval::EligibilitySummary eligibility;
 };
 
 /// Creates `directory` if needed and writes every file atomically; the
 /// records are written sorted.
-WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<GraspRecord> records,
+WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<eval::GraspRecord> records,
                                                 const ExperimentOutputs& outputs);
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

@@ -1,4 +1,4 @@
-#include <icrkit/eval/mesh_render.hpp>
+#include <icrkit/report/mesh_render.hpp>
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
@@ -16,7 +16,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -613,4 +613,4 @@ std::vector<Eigen::Vector3f> scanComparisonColours(const TriangleMesh& scan,
   return colours;
 }
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

@@ -5,12 +5,14 @@
 #include <icrkit/core/mesh_primitives.hpp>
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/grasp_regions.hpp>
-#include <icrkit/eval/grasp_render.hpp>
+#include <icrkit/report/grasp_render.hpp>
 
 #include <gtest/gtest.h>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 namespace {
+
+using namespace icrkit::eval;
 
 std::size_t pixelsOf(const RgbImage& image, const Eigen::Vector3f& colour, int tolerance) {
   std::size_t count = 0;
@@ -62,4 +64,4 @@ TEST(GraspRender, IdenticalMeshesShowIntersectionButNoFalsePositive) {
 }
 
 }  // namespace
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

@@ -8,15 +8,15 @@
 #include <string>
 #include <vector>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 
 /// A self-contained SVG document of the table (rows of `table` and its
 /// Average; the paper's values in grey where the dataset is one of its).
-std::string tableOneSvg(const TableOne& table);
+std::string tableOneSvg(const eval::TableOne& table);
 /// The same table as PNG bytes.
-std::vector<unsigned char> tableOnePng(const TableOne& table);
+std::vector<unsigned char> tableOnePng(const eval::TableOne& table);
 
-void writeTableOneSvg(const std::string& path, const TableOne& table);
-void writeTableOnePng(const std::string& path, const TableOne& table);
+void writeTableOneSvg(const std::string& path, const eval::TableOne& table);
+void writeTableOnePng(const std::string& path, const eval::TableOne& table);
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

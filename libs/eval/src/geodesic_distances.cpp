@@ -1,4 +1,4 @@
-#include <icrkit/eval/mesh_distances.hpp>
+#include <icrkit/eval/geodesic_distances.hpp>
 
 #include <icrkit/core/error.hpp>
 

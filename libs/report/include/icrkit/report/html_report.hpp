@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 
 /// One mesh of the viewer, already reduced to what the page draws.
 struct ReportMesh {
@@ -59,8 +59,8 @@ struct HtmlReportInput {
   std::string generated_by;                ///< e.g. "icrkit report" and its version
   std::string run_json;                    ///< run.json as text (pretty-printed in the page); empty if missing
   std::vector<std::pair<std::string, std::string>> parameters;  ///< key facts shown in the header
-  std::optional<TableOne> table;           ///< unset: Table I unavailable
-  std::optional<EligibilitySummary> eligibility;
+  std::optional<eval::TableOne> table;           ///< unset: Table I unavailable
+  std::optional<eval::EligibilitySummary> eligibility;
   std::vector<ReportSvg> histograms;       ///< Fig. 8
   std::vector<ReportImage> renders;
   std::string renders_note;                ///< shown when `renders` is empty
@@ -105,4 +105,4 @@ std::string base64Encode(const unsigned char* data, std::size_t size);
 /// Text safe inside HTML element content and attribute values.
 std::string htmlEscape(const std::string& text);
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report

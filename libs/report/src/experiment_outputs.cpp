@@ -1,18 +1,18 @@
-#include <icrkit/eval/experiment_outputs.hpp>
+#include <icrkit/report/experiment_outputs.hpp>
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
-#include <icrkit/eval/conservative_summary.hpp>
-#include <icrkit/eval/quality_histogram.hpp>
-#include <icrkit/eval/results_tables.hpp>
-#include <icrkit/eval/table_one_plot.hpp>
+#include <icrkit/report/conservative_plot.hpp>
+#include <icrkit/report/quality_plot.hpp>
+#include <icrkit/report/table_one_plot.hpp>
+#include <icrkit/report/table_one_text.hpp>
 
 #include <algorithm>
 #include <filesystem>
 
-namespace icrkit::eval {
+namespace icrkit::report {
 
-WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<GraspRecord> records,
+WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<eval::GraspRecord> records,
                                                 const ExperimentOutputs& outputs) {
   namespace fs = std::filesystem;
   const fs::path dir(directory);
@@ -26,28 +26,28 @@ WrittenOutputs writeExperimentOutputs(const std::string& directory, std::vector<
     written.files.push_back((dir / name).string());
     return written.files.back();
   };
-  writeGraspRecords(path("grasps.jsonl"), records);
-  TableOneOptions table_options;
+  eval::writeGraspRecords(path("grasps.jsonl"), records);
+  eval::TableOneOptions table_options;
   table_options.dataset_order = outputs.dataset_order;
-  written.table = computeTableOne(records, table_options);
-  written.eligibility = computeEligibility(records, table_options);
+  written.table = eval::computeTableOne(records, table_options);
+  written.eligibility = eval::computeEligibility(records, table_options);
   writeTableOneMarkdown(path("table1.md"), written.table);
   writeTableOneCsv(path("table1.csv"), written.table);
-  writeTableOneJson(path("table1.json"), written.table);
-  writeEligibilityJson(path("eligibility.json"), written.eligibility);
+  eval::writeTableOneJson(path("table1.json"), written.table);
+  eval::writeEligibilityJson(path("eligibility.json"), written.eligibility);
   writeTableOneSvg(path("table1.svg"), written.table);
   writeTableOnePng(path("table1.png"), written.table);
   for (const std::size_t fingers : outputs.finger_counts) {
-    const QualityHistogram histogram = cumulativeQualityHistogram(records, fingers);
+    const eval::QualityHistogram histogram = eval::cumulativeQualityHistogram(records, fingers);
     const std::string stem = "fig8_" + std::to_string(fingers) + "fingers";
     writeQualityHistogramSvg(path(stem + ".svg"), histogram);
     writeQualityHistogramPng(path(stem + ".png"), histogram);
-    writeQualityHistogramJson(path(stem + ".json"), histogram);
+    eval::writeQualityHistogramJson(path(stem + ".json"), histogram);
   }
-  const ConservativeSummary growth = computeConservativeSummary(records);
+  const eval::ConservativeSummary growth = eval::computeConservativeSummary(records);
   for (std::string& file : writeConservativeSummary(directory, growth)) written.files.push_back(std::move(file));
   writeFileAtomically(path("run.json"), [&](std::ostream& out) { out << outputs.run_json << "\n"; }, false);
   return written;
 }
 
-}  // namespace icrkit::eval
+}  // namespace icrkit::report
