@@ -209,6 +209,25 @@ std::vector<report::RgbImage> renderViews(const TriangleMesh& mesh, const std::v
   return images;
 }
 
+// One finger's Algorithm 2 figures, as the summary's compare.fingers lists them.
+nlohmann::json comparisonJson(int finger, const eval::RegionIntersection& result, std::size_t scan_vertices) {
+  const std::size_t outside =
+      static_cast<std::size_t>(std::count(result.inside.begin(), result.inside.end(), std::uint8_t{0}));
+  const double cad_area = result.cad_region_area_m2;
+  const auto percent = [&](double area) {
+    return cad_area > 0 ? nlohmann::json(100.0 * area / cad_area) : nlohmann::json(nullptr);
+  };
+  return {{"finger", finger},
+          {"cad_region_area_m2", cad_area},
+          {"intersection_area_m2", result.intersection_area_m2},
+          {"intersection_percent", percent(result.intersection_area_m2)},
+          {"false_positive_area_m2", result.false_positive_area_m2},
+          {"false_positive_percent", percent(result.false_positive_area_m2)},
+          {"reconstructed_region_vertices", scan_vertices},
+          {"false_positive_vertices", outside},
+          {"unmapped_vertices", result.unmapped}};
+}
+
 std::vector<int> contactsOf(const RegionSet& set) {
   std::vector<int> contacts;
   for (int c : set.contacts)
@@ -251,10 +270,6 @@ void run(const RenderOptions& options, CommandContext& context) {
 
   const double setup_ms = context.elapsedMs();
   report::RgbImage image;
-  std::vector<report::LegendEntry> legend;
-  const auto dotEntries = [&](bool centres) {
-    for (const report::LegendEntry& entry : report::graspMarkerLegend(centres)) legend.push_back(entry);
-  };
   int columns = std::min(options.columns, view_count);  // <= 0: chosen below
 
   if (!comparing) {
@@ -266,7 +281,7 @@ void run(const RenderOptions& options, CommandContext& context) {
     const std::vector<report::RgbImage> views =
         renderViews(mesh, cameras, style, colours, report::graspMarkers(mesh, contacts, centres, width), "", context);
     if (columns <= 0) columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(view_count))));
-    image = report::tileImages(views, columns);
+    std::vector<report::LegendEntry> legend;
     nlohmann::json regions_json = nlohmann::json::array();
     std::vector<int> sorted = regions.fingers;
     std::sort(sorted.begin(), sorted.end());
@@ -278,14 +293,16 @@ void run(const RenderOptions& options, CommandContext& context) {
                               {"central_point", centres[r]}});
     summary["regions"] = regions_json;
     if (!contacts.empty() || !regions.fingers.empty())
-      dotEntries(options.central_points && !regions.fingers.empty());
+      for (const report::LegendEntry& entry : report::graspMarkerLegend(options.central_points && !regions.fingers.empty()))
+        legend.push_back(entry);
+    image = report::appendLegend(report::tileImages(views, columns), legend);
   } else {
     const TriangleMesh other = readMesh(options.compare, false, options.compute_normals, context);
     const RegionSet other_regions = onlyFinger(readRegions(options.compare_regions, other, options.compare),
                                                options.finger, options.compare_regions);
     // Pair the regions by finger; each side must have the other's fingers.
-    std::vector<std::vector<int>> cad_sets, scan_sets, intersection_faces;
-    std::vector<std::vector<std::uint8_t>> inside;
+    std::vector<std::vector<int>> cad_sets, scan_sets;
+    std::vector<eval::RegionIntersection> intersections;
     nlohmann::json fingers_json = nlohmann::json::array();
     const eval::IntersectionEstimator estimator(mesh);
     for (std::size_t r = 0; r < regions.fingers.size(); ++r) {
@@ -296,67 +313,26 @@ void run(const RenderOptions& options, CommandContext& context) {
                                                           ", which " + options.regions + " has");
       const std::size_t s = static_cast<std::size_t>(it - other_regions.fingers.begin());
       eval::RegionIntersection result = estimator.estimate(regions.vertices[r], other, other_regions.vertices[s]);
-      const std::size_t outside =
-          static_cast<std::size_t>(std::count(result.inside.begin(), result.inside.end(), std::uint8_t{0}));
-      const double cad_area = result.cad_region_area_m2;
-      fingers_json.push_back(
-          {{"finger", finger},
-           {"cad_region_area_m2", cad_area},
-           {"intersection_area_m2", result.intersection_area_m2},
-           {"intersection_percent", cad_area > 0 ? nlohmann::json(100.0 * result.intersection_area_m2 / cad_area)
-                                                 : nlohmann::json(nullptr)},
-           {"false_positive_area_m2", result.false_positive_area_m2},
-           {"false_positive_percent", cad_area > 0 ? nlohmann::json(100.0 * result.false_positive_area_m2 / cad_area)
-                                                   : nlohmann::json(nullptr)},
-           {"reconstructed_region_vertices", other_regions.vertices[s].size()},
-           {"false_positive_vertices", outside},
-           {"unmapped_vertices", result.unmapped}});
+      fingers_json.push_back(comparisonJson(finger, result, other_regions.vertices[s].size()));
       cad_sets.push_back(regions.vertices[r]);
       scan_sets.push_back(other_regions.vertices[s]);
-      intersection_faces.push_back(std::move(result.intersection_faces));
-      inside.push_back(std::move(result.inside));
+      intersections.push_back(std::move(result));
     }
     for (int finger : other_regions.fingers)
       if (std::find(regions.fingers.begin(), regions.fingers.end(), finger) == regions.fingers.end())
         throw InputError(options.regions, "", "has no region for finger " + std::to_string(finger) + ", which " +
                                                   options.compare_regions + " has");
-
-    report::SurfaceColours cad_colours, scan_colours;
-    cad_colours.per_face = report::cadComparisonColours(mesh, cad_sets, intersection_faces, style.base_colour);
-    scan_colours.per_corner = report::scanComparisonColours(other, scan_sets, inside, style.base_colour);
-    const std::vector<int> cad_centres =
-        options.central_points ? report::regionCentralPoints(mesh, regions.vertices) : std::vector<int>(regions.vertices.size(), -1);
-    const std::vector<int> scan_centres = options.central_points ? report::regionCentralPoints(other, other_regions.vertices)
-                                                                 : std::vector<int>(other_regions.vertices.size(), -1);
-    // Both rows use the cameras fitted to MESH: the meshes share a frame, so
-    // the same place appears at the same pixel in both rows.
-    std::vector<report::RgbImage> views =
-        renderViews(mesh, cameras, style, cad_colours, report::graspMarkers(mesh, contacts, cad_centres, width), "CAD: ", context);
-    std::vector<report::RgbImage> scan_views =
-        renderViews(other, cameras, style, scan_colours,
-                    report::graspMarkers(other, contactsOf(other_regions), scan_centres, width), "reconstructed: ", context);
     if (columns <= 0) columns = view_count;
-    // Rows of `columns` CAD views, then the same rows for the reconstruction.
-    const int rows = (view_count + columns - 1) / columns;
-    std::vector<report::RgbImage> tiles;
-    for (int row = 0; row < rows; ++row)
-      for (const auto* set : {&views, &scan_views})
-        for (int c = 0; c < columns; ++c) {
-          const int i = row * columns + c;
-          tiles.push_back(i < view_count ? (*set)[static_cast<std::size_t>(i)]
-                                         : report::RgbImage(width, height, {255, 255, 255}));
-        }
-    image = report::tileImages(tiles, columns);
-    const report::ComparisonPalette palette;
-    legend.push_back({palette.intersection, "I_n / inside CAD region", false});
-    legend.push_back({palette.missed, "CAD region outside I_n", false});
-    legend.push_back({palette.false_positive, "false positive", false});
-    dotEntries(options.central_points);
+    report::ComparisonLayout layout;
+    layout.columns = columns;
+    layout.central_points = options.central_points;
+    // Both rows use the cameras fitted to MESH.
+    image = report::renderRegionComparison(mesh, cad_sets, contacts, other, scan_sets, contactsOf(other_regions),
+                                           intersections, cameras, style, layout, context.progress());
     summary["compare"] = {{"mesh", options.compare}, {"regions", options.compare_regions}, {"fingers", fingers_json}};
   }
   const double render_ms = context.elapsedMs() - setup_ms;
 
-  image = report::appendLegend(image, legend);
   summary["columns"] = columns;
   summary["image_size"] = {image.width, image.height};
   report::writePng(options.output, image);

@@ -58,6 +58,67 @@ std::vector<LegendEntry> graspMarkerLegend(bool central_points) {
   return legend;
 }
 
+RgbImage renderRegionComparison(const TriangleMesh& cad, const std::vector<std::vector<int>>& cad_regions,
+                                const std::vector<int>& cad_contacts, const TriangleMesh& scan,
+                                const std::vector<std::vector<int>>& scan_regions,
+                                const std::vector<int>& scan_contacts,
+                                const std::vector<RegionIntersection>& intersections,
+                                const std::vector<RenderCamera>& cameras, const RenderStyle& style,
+                                const ComparisonLayout& layout, const ProgressCallback& progress) {
+  if (cad_regions.size() != scan_regions.size() || intersections.size() != cad_regions.size())
+    throw InputError("comparison render", "regions",
+                     "the CAD mesh has " + std::to_string(cad_regions.size()) + " regions, the " +
+                         layout.scan_caption + " mesh " + std::to_string(scan_regions.size()) + ", with " +
+                         std::to_string(intersections.size()) + " intersections");
+  std::vector<std::vector<int>> faces;
+  std::vector<std::vector<std::uint8_t>> inside;
+  for (const RegionIntersection& r : intersections) {
+    faces.push_back(r.intersection_faces);
+    inside.push_back(r.inside);
+  }
+  SurfaceColours cad_colours, scan_colours;
+  cad_colours.per_face = cadComparisonColours(cad, cad_regions, faces, style.base_colour);
+  scan_colours.per_corner = scanComparisonColours(scan, scan_regions, inside, style.base_colour);
+  const auto centres = [&](const TriangleMesh& mesh, const std::vector<std::vector<int>>& regions) {
+    return layout.central_points ? regionCentralPoints(mesh, regions) : std::vector<int>{};
+  };
+  const auto cad_markers = graspMarkers(cad, cad_contacts, centres(cad, cad_regions), style.width);
+  const auto scan_markers = graspMarkers(scan, scan_contacts, centres(scan, scan_regions), style.width);
+
+  const std::size_t views = cameras.size();
+  std::size_t done = 0;
+  const auto renderRow = [&](const TriangleMesh& mesh, const SurfaceColours& colours,
+                             const std::vector<Marker>& markers, const std::string& caption) {
+    const MeshRenderer renderer(mesh);
+    std::vector<RgbImage> images;
+    for (const RenderCamera& camera : cameras) {
+      RgbImage image = renderer.render(camera, style, colours, markers);
+      drawCaption(image, caption + ": " + camera.name);
+      images.push_back(std::move(image));
+      if (progress) progress("render", ++done, 2 * views);
+    }
+    return images;
+  };
+  const std::vector<RgbImage> cad_views = renderRow(cad, cad_colours, cad_markers, layout.cad_caption);
+  const std::vector<RgbImage> scan_views = renderRow(scan, scan_colours, scan_markers, layout.scan_caption);
+
+  const std::size_t columns = layout.columns > 0 ? static_cast<std::size_t>(layout.columns) : std::max<std::size_t>(views, 1);
+  const std::size_t rows = (views + columns - 1) / columns;
+  std::vector<RgbImage> tiles;
+  for (std::size_t row = 0; row < rows; ++row)
+    for (const auto* set : {&cad_views, &scan_views})
+      for (std::size_t c = 0; c < columns; ++c) {
+        const std::size_t i = row * columns + c;
+        tiles.push_back(i < views ? (*set)[i] : RgbImage(style.width, style.height, {255, 255, 255}));
+      }
+  const ComparisonPalette palette;
+  std::vector<LegendEntry> legend{{palette.intersection, "I_n / inside the CAD region", false},
+                                  {palette.missed, "CAD region outside I_n", false},
+                                  {palette.false_positive, "false positive", false}};
+  for (const LegendEntry& entry : graspMarkerLegend(layout.central_points)) legend.push_back(entry);
+  return appendLegend(tileImages(tiles, static_cast<int>(columns)), legend);
+}
+
 RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::vector<int>>& cad_regions,
                                const std::vector<int>& cad_contacts, const TriangleMesh& scan,
                                const std::vector<std::vector<int>>& scan_regions,
@@ -68,50 +129,21 @@ RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::v
                      "the CAD mesh has " + std::to_string(cad_regions.size()) + " regions, the " + scan_label +
                          " mesh " + std::to_string(scan_regions.size()));
   const IntersectionEstimator estimator(cad);
-  std::vector<std::vector<int>> faces;
-  std::vector<std::vector<std::uint8_t>> inside;
-  for (std::size_t n = 0; n < cad_regions.size(); ++n) {
-    RegionIntersection r = estimator.estimate(cad_regions[n], scan, scan_regions[n]);
-    faces.push_back(std::move(r.intersection_faces));
-    inside.push_back(std::move(r.inside));
-  }
+  std::vector<RegionIntersection> intersections;
+  for (std::size_t n = 0; n < cad_regions.size(); ++n)
+    intersections.push_back(estimator.estimate(cad_regions[n], scan, scan_regions[n]));
   RenderStyle style;
   style.width = params.view_width;
   style.height = params.view_height;
   style.samples_per_axis = params.samples_per_axis;
-  SurfaceColours cad_colours, scan_colours;
-  cad_colours.per_face = cadComparisonColours(cad, cad_regions, faces, style.base_colour);
-  scan_colours.per_corner = scanComparisonColours(scan, scan_regions, inside, style.base_colour);
-
   OrbitParameters orbit;
   orbit.count = params.views;
   orbit.aspect = static_cast<double>(params.view_width) / params.view_height;
-  // One set of cameras for both rows: the meshes share a frame, so one place
-  // of the object sits at the same pixel in both.
-  const std::vector<RenderCamera> cameras = orbitCameras(cad, orbit);
-  const MeshRenderer cad_renderer(cad), scan_renderer(scan);
-  const auto centres = [&](const TriangleMesh& mesh, const std::vector<std::vector<int>>& regions) {
-    return params.central_points ? regionCentralPoints(mesh, regions) : std::vector<int>{};
-  };
-  const auto cad_markers = graspMarkers(cad, cad_contacts, centres(cad, cad_regions), params.view_width);
-  const auto scan_markers = graspMarkers(scan, scan_contacts, centres(scan, scan_regions), params.view_width);
-  std::vector<RgbImage> tiles;
-  for (const RenderCamera& camera : cameras) {
-    RgbImage image = cad_renderer.render(camera, style, cad_colours, cad_markers);
-    drawCaption(image, "CAD: " + camera.name);
-    tiles.push_back(std::move(image));
-  }
-  for (const RenderCamera& camera : cameras) {
-    RgbImage image = scan_renderer.render(camera, style, scan_colours, scan_markers);
-    drawCaption(image, scan_label + ": " + camera.name);
-    tiles.push_back(std::move(image));
-  }
-  const ComparisonPalette palette;
-  std::vector<LegendEntry> legend{{palette.intersection, "I_n / inside the CAD region", false},
-                                  {palette.missed, "CAD region outside I_n", false},
-                                  {palette.false_positive, "false positive", false}};
-  for (const LegendEntry& entry : graspMarkerLegend(params.central_points)) legend.push_back(entry);
-  return appendLegend(tileImages(tiles, static_cast<int>(cameras.size())), legend);
+  ComparisonLayout layout;
+  layout.scan_caption = scan_label;
+  layout.central_points = params.central_points;
+  return renderRegionComparison(cad, cad_regions, cad_contacts, scan, scan_regions, scan_contacts, intersections,
+                                orbitCameras(cad, orbit), style, layout);
 }
 
 }  // namespace icrkit::report

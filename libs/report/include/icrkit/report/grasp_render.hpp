@@ -4,9 +4,12 @@
 /// intersected (I_n) and missed parts, above the reconstructed mesh with its
 /// regions' inside and false-positive parts, from the same cameras, with the
 /// prototype contacts and the regions' central points as dots. Used by
-/// `icrkit evaluate/paper --renders N` (RUN_DIR/renders/) for the report.
+/// `icrkit evaluate/paper --renders N` (RUN_DIR/renders/) for the report and
+/// by `icrkit render --compare` from the cameras it is given.
 
+#include <icrkit/core/progress.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
+#include <icrkit/eval/intersection_estimation.hpp>
 #include <icrkit/report/mesh_render.hpp>
 
 #include <string>
@@ -35,11 +38,35 @@ std::vector<Marker> graspMarkers(const TriangleMesh& mesh, const std::vector<int
 /// Legend entries of those dots (contacts; central points when asked).
 std::vector<LegendEntry> graspMarkerLegend(bool central_points);
 
+/// How a comparison picture is laid out.
+struct ComparisonLayout {
+  int columns = 0;                             ///< views per row; <= 0: every view in one row
+  std::string cad_caption = "CAD";             ///< each view's caption: "<caption>: <camera name>"
+  std::string scan_caption = "reconstructed";
+  bool central_points = true;                  ///< mark the regions' central points
+};
+
+/// The comparison picture from the given cameras: rows of `layout.columns`
+/// CAD views (I_n green, the rest of each CAD region blue), each row followed
+/// by the same views of the reconstruction (inside the CAD region green,
+/// false positive vermillion), short rows padded white, and the legend.
+/// `intersections[n]` is Algorithm 2's result for `cad_regions[n]` against
+/// `scan_regions[n]`. The meshes share a frame, so one set of cameras puts a
+/// place of the object at the same pixel in both rows. Progress: "render".
+RgbImage renderRegionComparison(const TriangleMesh& cad, const std::vector<std::vector<int>>& cad_regions,
+                                const std::vector<int>& cad_contacts, const TriangleMesh& scan,
+                                const std::vector<std::vector<int>>& scan_regions,
+                                const std::vector<int>& scan_contacts,
+                                const std::vector<eval::RegionIntersection>& intersections,
+                                const std::vector<RenderCamera>& cameras, const RenderStyle& style,
+                                const ComparisonLayout& layout = {}, const ProgressCallback& progress = {});
+
 /// `cad_regions[n]` and `scan_regions[n]` are finger n's regions (same
 /// finger order), `cad_contacts` / `scan_contacts` the prototype grasps.
 /// `scan_label` names the reconstruction in the captions ("filtered", "raw").
 /// The CAD mesh needs unit vertex normals. Throws InputError for mismatched
-/// region counts or indices out of range.
+/// region counts or indices out of range. The views orbit the CAD mesh
+/// (renderRegionComparison in one row per mesh).
 RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::vector<int>>& cad_regions,
                                const std::vector<int>& cad_contacts, const TriangleMesh& scan,
                                const std::vector<std::vector<int>>& scan_regions,
