@@ -11,6 +11,7 @@
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/results_tables.hpp>
+#include <icrkit/eval/run_folder.hpp>
 #include <icrkit/eval/sensitivity_study.hpp>
 #include <icrkit/report/experiment_outputs.hpp>
 #include <icrkit/report/sensitivity_plot.hpp>
@@ -87,7 +88,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   nlohmann::json sampled;
   for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment->sampledGrasps(f);
   nlohmann::json run{{"command", "evaluate"},
-                     {"config", experimentConfigJson(config)},
+                     {"config", nlohmann::json::parse(eval::experimentConfigJson(config))},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"align", o.experiment.align},
                      {"renders", o.experiment.renders},

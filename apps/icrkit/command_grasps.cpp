@@ -80,7 +80,7 @@ void run(const GraspsOptions& options, CommandContext& context) {
       {"hulls_built", statistics.hulls_built},
       {"grasps_per_second",
        statistics.time_ms > 0 ? static_cast<double>(grasps.size()) / (statistics.time_ms / 1000.0) : 0.0},
-      {"model", contactModelJson(model)},
+      {"model", nlohmann::json::parse(icr::contactModelJson(model))},
       {"torque_reference", icr::torqueReferenceName(options.mesh.torque_reference)},
       {"normals", input.normals_computed ? "computed" : "file"},
       {"exclusion", input.exclusion_source},

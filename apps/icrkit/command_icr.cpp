@@ -216,7 +216,7 @@ void run(const IcrOptions& options, CommandContext& context) {
       {"gws_facets", result.gws_facets},
       {"regions", regions},
       {"contacts", contacts},
-      {"model", contactModelJson(params.contact_model)},
+      {"model", nlohmann::json::parse(icr::contactModelJson(params.contact_model))},
       {"alpha", options.tws_radius > 0 ? nlohmann::json(nullptr) : nlohmann::json(options.alpha)},
       {"mode", options.mode == icr::GrowthMode::BreadthFirst ? "bfs" : "full"},
       {"conservative", conservativeJson(params.conservative)},

@@ -11,6 +11,7 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/results_tables.hpp>
+#include <icrkit/eval/run_folder.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 #include <icrkit/report/experiment_outputs.hpp>
 #include <icrkit/sim/dataset.hpp>
@@ -169,7 +170,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   nlohmann::json names = nlohmann::json::array();
   for (const std::string& n : order) names.push_back({{"name", n}});
   nlohmann::json run{{"command", "paper"},
-                     {"config", experimentConfigJson(config)},
+                     {"config", nlohmann::json::parse(eval::experimentConfigJson(config))},
                      {"views", o.views},
                      {"reconstruction", "icrkit reconstruct defaults"},
                      {"preselection_rule", o.experiment.preselectionName()},

@@ -14,6 +14,7 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/eval/results_tables.hpp>
+#include <icrkit/eval/run_folder.hpp>
 #include <icrkit/eval/sensitivity_study.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 #include <icrkit/ndt/preselection.hpp>
@@ -159,7 +160,7 @@ nlohmann::json sensitivity(const SensitivityOptions& o, CommandContext& context)
       datasets.push_back({{"name", order.back()}});
     }
   nlohmann::json run{{"command", "sensitivity"},
-                     {"config", experimentConfigJson(params.experiment)},
+                     {"config", nlohmann::json::parse(eval::experimentConfigJson(params.experiment))},
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"sensitivity",
                       {{"object", object},

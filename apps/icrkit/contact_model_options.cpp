@@ -67,16 +67,6 @@ icr::ContactModel ContactModelOptions::model() const {
   return model;
 }
 
-nlohmann::json contactModelJson(const icr::ContactModel& model) {
-  nlohmann::json out{{"type", icr::contactTypeName(model.type)}, {"force_n", model.force}};
-  if (model.type == icr::ContactType::Frictionless) return out;
-  out["mu"] = model.friction;
-  out["edges"] = model.cone_edges;
-  out["include_normal"] = model.include_normal;
-  if (model.type == icr::ContactType::SoftFinger) out["mu_t"] = model.torsional_friction;
-  return out;
-}
-
 void GraspMeshOptions::addTo(CLI::App& command) {
   command.add_option("mesh", path, "Mesh with vertex normals (.ply nx/ny/nz, .obj vn)")->required();
   command.add_flag("--compute-normals", compute_normals,

@@ -31,10 +31,6 @@ struct ContactModelOptions {
   icr::ContactModel model() const;
 };
 
-/// {"type": ..., "mu": ..., "edges": ..., "mu_t": ..., "force_n": ...}, only
-/// the fields the model type uses.
-nlohmann::json contactModelJson(const icr::ContactModel& model);
-
 struct GraspMeshOptions {
   std::string path;
   bool compute_normals = false;

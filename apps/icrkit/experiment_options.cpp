@@ -153,57 +153,6 @@ nlohmann::json ExperimentOptions::applyPreselection(TriangleMesh& filtered, cons
   return preselectionJson(ndt::applyPreselection(filtered.vertices.attributes, filtered.vertexCount(), params, path));
 }
 
-nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config) {
-  nlohmann::json json = {{"finger_counts", config.finger_counts},
-          {"grasps_per_set", config.grasps_per_set},
-          {"seed", config.seed},
-          {"contact_model", contactModelJson(config.contactModel())},
-          {"alpha", config.alpha},
-          {"growth", config.growth == icr::GrowthMode::BreadthFirst ? "bfs" : "full"},
-          {"metric", config.metric == eval::DistanceMetric::Euclidean                   ? "euclidean"
-                     : config.paths == eval::GeodesicPaths::EdgesAndUnfoldedDiagonals ? "geodesic_edges_and_unfolded_diagonals"
-                                                                                      : "geodesic_edges"},
-          {"max_line_distance_m", config.mapping.max_line_distance},
-          {"neighbourhood_radius_m", config.mapping.neighbourhood_radius},
-          {"preselection", config.preselection},
-          {"conservative_sigmas", config.conservative_sigmas},
-          {"wrench_frame", "CAD mesh centroid, lambda = largest CAD vertex distance from it"}};
-  // Only when asked for, so that run.json of other runs keeps its form.
-  if (config.patch) json["patch"] = {{"radius_m", config.patch->radius_m}, {"filter_border", config.patch->filter_border}};
-  return json;
-}
-
-eval::ExperimentConfig experimentConfigFromJson(const nlohmann::json& config) {
-  eval::ExperimentConfig out;
-  if (!config.is_object()) return out;
-  if (config.contains("finger_counts")) out.finger_counts = config.at("finger_counts").get<std::vector<std::size_t>>();
-  out.grasps_per_set = config.value("grasps_per_set", out.grasps_per_set);
-  out.seed = config.value("seed", out.seed);
-  out.alpha = config.value("alpha", out.alpha);
-  if (config.contains("contact_model")) {
-    const auto& model = config.at("contact_model");
-    out.friction = model.value("mu", out.friction);
-    out.cone_edges = model.value("edges", out.cone_edges);
-  }
-  out.growth = config.value("growth", std::string("bfs")) == "full" ? icr::GrowthMode::Full : icr::GrowthMode::BreadthFirst;
-  const std::string metric = config.value("metric", std::string("geodesic_edges_and_unfolded_diagonals"));
-  out.metric = metric == "euclidean" ? eval::DistanceMetric::Euclidean : eval::DistanceMetric::Geodesic;
-  if (metric == "geodesic_edges") out.paths = eval::GeodesicPaths::Edges;
-  out.mapping.max_line_distance = config.value("max_line_distance_m", out.mapping.max_line_distance);
-  out.mapping.neighbourhood_radius = config.value("neighbourhood_radius_m", out.mapping.neighbourhood_radius);
-  out.preselection = config.value("preselection", out.preselection);
-  if (config.contains("conservative_sigmas"))
-    out.conservative_sigmas = config.at("conservative_sigmas").get<std::vector<double>>();
-  if (config.contains("patch")) {
-    if (!config.at("patch").is_object())
-      throw InputError("run.json", "config.patch", "expected an object with radius_m and filter_border");
-    out.patch = icr::PatchParameters{};
-    out.patch->radius_m = config.at("patch").value("radius_m", out.patch->radius_m);
-    out.patch->filter_border = config.at("patch").value("filter_border", out.patch->filter_border);
-  }
-  return out;
-}
-
 std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
     const std::function<std::unique_ptr<eval::DatasetExperiment>()>& make,
     const std::map<std::string, std::string>& files) {

@@ -55,11 +55,6 @@ struct ExperimentOptions {
   nlohmann::json applyPreselection(TriangleMesh& filtered, const std::string& path) const;
 };
 
-nlohmann::json experimentConfigJson(const eval::ExperimentConfig& config);
-/// The inverse, for run.json's "config" (kept beside it so that the keys
-/// cannot drift apart); absent keys keep the defaults, which are the paper's.
-eval::ExperimentConfig experimentConfigFromJson(const nlohmann::json& config);
-
 /// Fig. 6 renders (CAD vs filtered, CAD vs raw) of the first `options.renders`
 /// evaluated records of `meshes`, into DIR/renders/; returns the files.
 std::vector<std::string> writeGraspRenders(const std::string& directory, const ExperimentOptions& options,

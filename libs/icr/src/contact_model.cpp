@@ -1,6 +1,8 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/icr/contact_model.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <string>
 
@@ -39,6 +41,17 @@ ContactType parseContactType(const std::string& name) {
   for (ContactType type : {ContactType::Frictional, ContactType::Frictionless, ContactType::SoftFinger})
     if (name == contactTypeName(type)) return type;
   throw InputError("contact model", "", "expected frictional, frictionless or soft, got '" + name + "'");
+}
+
+std::string contactModelJson(const ContactModel& model) {
+  nlohmann::json out{{"type", contactTypeName(model.type)}, {"force_n", model.force}};
+  if (model.type != ContactType::Frictionless) {
+    out["mu"] = model.friction;
+    out["edges"] = model.cone_edges;
+    out["include_normal"] = model.include_normal;
+    if (model.type == ContactType::SoftFinger) out["mu_t"] = model.torsional_friction;
+  }
+  return out.dump();
 }
 
 std::vector<LocalPrimitive> localPrimitives(const ContactModel& model) {

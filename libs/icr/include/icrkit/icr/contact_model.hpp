@@ -38,6 +38,10 @@ struct ContactModel {
 const char* contactTypeName(ContactType type);
 /// The inverse; InputError (source "contact model") naming the choices.
 ContactType parseContactType(const std::string& name);
+/// The model as the commands' summaries and run.json record it, compact JSON
+/// with sorted keys: {"type", "force_n"} and, with friction, "mu", "edges",
+/// "include_normal" ("mu_t" for the soft finger).
+std::string contactModelJson(const ContactModel& model);
 
 /// A primitive of the contact, in the contact frame (+z along the normal).
 struct LocalPrimitive {
