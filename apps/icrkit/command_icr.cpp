@@ -46,7 +46,7 @@ struct IcrOptions {
 
 // Tableau 10 without its grey, which marks vertices in no region: distinct
 // hues that stay apart for the usual 3-5 fingers; more fingers reuse them.
-constexpr std::array<Color, 9> kPalette{{{31, 119, 180},
+constexpr std::array<Colour, 9> kPalette{{{31, 119, 180},
                                          {255, 127, 14},
                                          {44, 160, 44},
                                          {214, 39, 40},
@@ -55,8 +55,8 @@ constexpr std::array<Color, 9> kPalette{{{31, 119, 180},
                                          {227, 119, 194},
                                          {188, 189, 34},
                                          {23, 190, 207}}};
-constexpr Color kNoRegion{190, 190, 190};
-constexpr Color kRecommended{0, 0, 0};
+constexpr Colour kNoRegion{190, 190, 190};
+constexpr Colour kRecommended{0, 0, 0};
 
 std::vector<int> parseContactIndices(const std::string& text) {
   std::vector<int> contacts;
@@ -102,16 +102,16 @@ TriangleMesh regionMesh(const TriangleMesh& mesh, const icr::IcrResult& result) 
   // lowest finger index, as documented.
   for (auto it = result.regions.rbegin(); it != result.regions.rend(); ++it)
     for (int v : it->vertices) region[static_cast<std::size_t>(v)] = static_cast<double>(it->finger);
-  out.vertices.colors.assign(mesh.vertexCount(), kNoRegion);
+  out.vertices.colours.assign(mesh.vertexCount(), kNoRegion);
   for (std::size_t v = 0; v < region.size(); ++v)
-    if (region[v] >= 0) out.vertices.colors[v] = kPalette[static_cast<std::size_t>(region[v]) % kPalette.size()];
+    if (region[v] >= 0) out.vertices.colours[v] = kPalette[static_cast<std::size_t>(region[v]) % kPalette.size()];
   out.vertices.attributes.add("region", ScalarType::Int32, std::move(region));
   // The marker: where each finger should aim, black, with its finger index.
   std::vector<double> recommended(mesh.vertexCount(), -1.0);
   for (auto it = result.regions.rbegin(); it != result.regions.rend(); ++it)
     if (it->recommended.vertex >= 0) {
       recommended[static_cast<std::size_t>(it->recommended.vertex)] = static_cast<double>(it->finger);
-      out.vertices.colors[static_cast<std::size_t>(it->recommended.vertex)] = kRecommended;
+      out.vertices.colours[static_cast<std::size_t>(it->recommended.vertex)] = kRecommended;
     }
   out.vertices.attributes.add("recommended", ScalarType::Int32, std::move(recommended));
   return out;

@@ -28,7 +28,7 @@ nlohmann::json describe(const std::string& path, CommandContext& context) {
   out["vertices"] = v.size();
   out["faces"] = mesh.faces.size();
   out["has_normals"] = v.hasNormals();
-  out["has_colors"] = v.hasColors();
+  out["has_colors"] = v.hasColours();
   nlohmann::json attributes = nlohmann::json::array();
   for (const Attribute& a : v.attributes) attributes.push_back({{"name", a.name}, {"type", plyTypeName(a.type)}});
   out["attributes"] = attributes;

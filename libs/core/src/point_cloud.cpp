@@ -20,7 +20,7 @@ void PointCloud::setFlag(const std::string& name, std::size_t index, bool value)
 void PointCloud::resize(std::size_t count) {
   positions.resize(count, Eigen::Vector3d::Zero());
   if (hasNormals()) normals.resize(count, Eigen::Vector3d::Zero());
-  if (hasColors()) colors.resize(count, Color{0, 0, 0});
+  if (hasColours()) colours.resize(count, Colour{0, 0, 0});
   attributes.resize(count);
 }
 
@@ -34,7 +34,7 @@ void PointCloud::select(const std::vector<std::size_t>& indices) {
   };
   pick(positions);
   pick(normals);
-  pick(colors);
+  pick(colours);
   attributes.select(indices);
 }
 
@@ -44,12 +44,12 @@ void PointCloud::append(const PointCloud& other) {
     *this = other;
     return;
   }
-  if (hasNormals() != other.hasNormals() || hasColors() != other.hasColors() ||
+  if (hasNormals() != other.hasNormals() || hasColours() != other.hasColours() ||
       attributes.size() != other.attributes.size())
     throw std::invalid_argument("PointCloud::append: the clouds carry different per-point data");
   positions.insert(positions.end(), other.positions.begin(), other.positions.end());
   normals.insert(normals.end(), other.normals.begin(), other.normals.end());
-  colors.insert(colors.end(), other.colors.begin(), other.colors.end());
+  colours.insert(colours.end(), other.colours.begin(), other.colours.end());
   for (Attribute& a : attributes) {
     const Attribute* b = other.attributes.find(a.name);
     if (b == nullptr)
@@ -63,8 +63,8 @@ void PointCloud::validate() const {
   if (!normals.empty() && normals.size() != n)
     throw std::invalid_argument("point cloud has " + std::to_string(normals.size()) + " normals for " +
                                 std::to_string(n) + " points");
-  if (!colors.empty() && colors.size() != n)
-    throw std::invalid_argument("point cloud has " + std::to_string(colors.size()) + " colours for " +
+  if (!colours.empty() && colours.size() != n)
+    throw std::invalid_argument("point cloud has " + std::to_string(colours.size()) + " colours for " +
                                 std::to_string(n) + " points");
   for (const Attribute& a : attributes)
     if (a.values.size() != n)

@@ -22,7 +22,7 @@ TEST(MeshSampling, PointsLieOnTheSurfaceWithTheirNormals) {
   const PointCloud cloud = samplePointsUniformly(sphere, 5000, 7);
   ASSERT_EQ(cloud.size(), 5000u);
   ASSERT_EQ(cloud.normals.size(), 5000u);
-  EXPECT_FALSE(cloud.hasColors());
+  EXPECT_FALSE(cloud.hasColours());
   EXPECT_NO_THROW(cloud.validate());
   const RayCaster caster(sphere);
   const auto closest = caster.closestPoints(cloud.positions);

@@ -74,7 +74,7 @@ void expectSampleCloud(const PointCloud& cloud) {
   // The third sample has a NaN coordinate and is dropped.
   ASSERT_EQ(cloud.size(), 3u);
   const std::size_t kept[] = {0, 1, 3};
-  ASSERT_TRUE(cloud.hasColors());
+  ASSERT_TRUE(cloud.hasColours());
   EXPECT_FALSE(cloud.hasNormals());
   ASSERT_EQ(cloud.attributes.size(), 2u);
   const Attribute& label = cloud.attributes.get("label");
@@ -85,9 +85,9 @@ void expectSampleCloud(const PointCloud& cloud) {
   for (std::size_t i = 0; i < 3; ++i) {
     const SamplePoint& s = kSamples[kept[i]];
     EXPECT_EQ(cloud.positions[i], Eigen::Vector3d(s.x, s.y, s.z)) << i;
-    const Color expected{static_cast<std::uint8_t>(s.rgb >> 16), static_cast<std::uint8_t>(s.rgb >> 8),
+    const Colour expected{static_cast<std::uint8_t>(s.rgb >> 16), static_cast<std::uint8_t>(s.rgb >> 8),
                          static_cast<std::uint8_t>(s.rgb)};
-    EXPECT_EQ(cloud.colors[i], expected) << i;
+    EXPECT_EQ(cloud.colours[i], expected) << i;
     EXPECT_EQ(label.values[i], s.label) << i;
     EXPECT_EQ(offset.values[i], s.offset) << i;
   }
@@ -113,7 +113,7 @@ TEST(PcdReader, AsciiRgbAsPackedFloat) {
   const PointCloud cloud = parsePcd(header("x y z rgb", "4 4 4 4", "F F F F", "1 1 1 1", 1, 1, "ascii") + line.str(),
                                     "t.pcd");
   ASSERT_EQ(cloud.size(), 1u);
-  EXPECT_EQ(cloud.colors[0], (Color{0xab, 0xcd, 0xef}));
+  EXPECT_EQ(cloud.colours[0], (Colour{0xab, 0xcd, 0xef}));
 }
 
 std::string sampleBinaryPointMajor() {
@@ -181,7 +181,7 @@ TEST(PcdReader, NormalsRgbaAndMissingCountLine) {
   EXPECT_EQ(cloud.positions[0], Eigen::Vector3d(1, 2, 3));
   ASSERT_TRUE(cloud.hasNormals());
   EXPECT_EQ(cloud.normals[0], Eigen::Vector3d(0.0, double(0.6f), double(0.8f)));
-  EXPECT_EQ(cloud.colors[0], (Color{1, 2, 3}));
+  EXPECT_EQ(cloud.colours[0], (Colour{1, 2, 3}));
   EXPECT_EQ(cloud.attributes.get("curvature").values[0], 0.25);
   EXPECT_EQ(cloud.attributes.get("curvature").type, ScalarType::Float32);
 }
@@ -327,7 +327,7 @@ PointCloud randomCloud(std::size_t n, unsigned seed) {
   for (std::size_t i = 0; i < n; ++i) {
     cloud.positions.emplace_back(coordinate(rng), coordinate(rng) * 1e-6, coordinate(rng) * 1e6);
     cloud.normals.push_back(Eigen::Vector3d(coordinate(rng), coordinate(rng), coordinate(rng)).normalized());
-    cloud.colors.push_back(Color{static_cast<std::uint8_t>(byte(rng)), static_cast<std::uint8_t>(byte(rng)),
+    cloud.colours.push_back(Colour{static_cast<std::uint8_t>(byte(rng)), static_cast<std::uint8_t>(byte(rng)),
                                  static_cast<std::uint8_t>(byte(rng))});
   }
   const ScalarType types[] = {ScalarType::Int8,   ScalarType::UInt8,  ScalarType::Int16,   ScalarType::UInt16,
@@ -345,14 +345,14 @@ PointCloud randomCloud(std::size_t n, unsigned seed) {
 void expectIdentical(const PointCloud& a, const PointCloud& b) {
   ASSERT_EQ(a.size(), b.size());
   ASSERT_EQ(a.hasNormals(), b.hasNormals());
-  ASSERT_EQ(a.hasColors(), b.hasColors());
+  ASSERT_EQ(a.hasColours(), b.hasColours());
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a.positions[i], b.positions[i]) << i;
     if (a.hasNormals()) {
       EXPECT_EQ(a.normals[i], b.normals[i]) << i;
     }
-    if (a.hasColors()) {
-      EXPECT_EQ(a.colors[i], b.colors[i]) << i;
+    if (a.hasColours()) {
+      EXPECT_EQ(a.colours[i], b.colours[i]) << i;
     }
   }
   ASSERT_EQ(a.attributes.size(), b.attributes.size());
@@ -443,7 +443,7 @@ TEST(PcdSharedData, Milk) {
   if (!readFile(path, bytes)) GTEST_SKIP() << "shared data file missing: " << path;
   const PointCloud cloud = parsePcd(bytes, path);
   EXPECT_EQ(cloud.size(), 13704u);  // every point is finite
-  EXPECT_FALSE(cloud.hasColors());
+  EXPECT_FALSE(cloud.hasColours());
   EXPECT_EQ(cloud.positions[0], Eigen::Vector3d(-0.13160760700702667, -0.2095429003238678, 0.7720000147819519));
   EXPECT_NO_THROW(cloud.validate());
   const Eigen::AlignedBox3d box = cloud.bounds();
@@ -464,7 +464,7 @@ TEST(PcdSharedData, TableSceneDropsInvalidPixels) {
   // Counted independently (decompressing in Python): 98,080 pixels are NaN.
   EXPECT_EQ(cloud.size(), 209280u);
   EXPECT_EQ(cloud.positions[0], Eigen::Vector3d(-0.3819099962711334, -0.448199987411499, 2.0257999897003174));
-  ASSERT_TRUE(cloud.hasColors());
+  ASSERT_TRUE(cloud.hasColours());
   EXPECT_NO_THROW(cloud.validate());
   // Writing and reading back keeps every bit.
   std::ostringstream out;

@@ -33,7 +33,7 @@ PointCloud makeCloud(std::size_t n, unsigned seed) {
   for (std::size_t i = 0; i < n; ++i) {
     c.positions.emplace_back(u(rng), u(rng), u(rng));
     c.normals.push_back(Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized());
-    c.colors.push_back(Color{static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(2 * i), 7});
+    c.colours.push_back(Colour{static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(2 * i), 7});
   }
   auto& card = c.attributes.add("cardinality", ScalarType::Int32, n);
   auto& excl = c.attributes.add("excluded", ScalarType::UInt8, n);
@@ -125,7 +125,7 @@ TEST_P(PlyRoundTrip, PreservesEverything) {
   EXPECT_EQ(back.faces, mesh.faces);
   EXPECT_EQ(back.vertices.positions, mesh.vertices.positions);  // bit-exact, also in ASCII (shortest round-trip)
   EXPECT_EQ(back.vertices.normals, mesh.vertices.normals);
-  EXPECT_EQ(back.vertices.colors, mesh.vertices.colors);
+  EXPECT_EQ(back.vertices.colours, mesh.vertices.colours);
   ASSERT_EQ(back.vertices.attributes.size(), mesh.vertices.attributes.size());
   for (const Attribute& a : mesh.vertices.attributes) {
     const Attribute& b = back.vertices.attributes.get(a.name);

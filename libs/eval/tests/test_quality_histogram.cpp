@@ -160,7 +160,7 @@ TEST(QualityHistogram, SvgIsWellFormedWithTitleLegendAndBars) {
   expectWellFormedXml(custom);
   EXPECT_NE(custom.find("Ampersand &amp; &lt;angle&gt;"), std::string::npos);
 
-  options.raw_color = "red";
+  options.raw_colour = "red";
   EXPECT_THROW(report::qualityHistogramSvg(h, options), InputError);
 }
 

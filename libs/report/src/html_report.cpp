@@ -250,19 +250,19 @@ void writeViewer(std::ostringstream& out, const HtmlReportInput& input, HtmlRepo
                     item["faces"].get_ref<const std::string&>().size() +
                     item["region"].get_ref<const std::string&>().size();
     data["meshes"].push_back(std::move(item));
-    const std::string color = mesh.key == "cad" ? "#bdbdbd" : mesh.key == "raw" ? "#d9b48f" : "#9ecae1";
+    const std::string colour = mesh.key == "cad" ? "#bdbdbd" : mesh.key == "raw" ? "#d9b48f" : "#9ecae1";
     const bool capped = mesh.faces.size() < mesh.source_faces;
     out << "<label title=\"" << htmlEscape(mesh.source) << "\"><input type=\"checkbox\" id=\"mesh-" << htmlEscape(mesh.key)
-        << "\" checked> <span class=\"swatch\" style=\"background:" << color << "\"></span>" << htmlEscape(mesh.label)
+        << "\" checked> <span class=\"swatch\" style=\"background:" << colour << "\"></span>" << htmlEscape(mesh.label)
         << " (" << mesh.positions.size() << " vertices, " << mesh.faces.size() << " faces"
         << (capped ? " of " + std::to_string(mesh.source_faces) : std::string()) << ")</label>";
   }
   out << "</div>\n<div class=\"viewer-controls\"><span><b>Fingers:</b></span>";
-  static const char* const kFingerColors[] = {"#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
+  static const char* const kFingerColours[] = {"#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf",
                                               "#e377c2", "#8c564b", "#bcbd22", "#1f77b4", "#7f7f7f"};
   for (std::size_t f = 0; f < input.fingers; ++f)
     out << "<label><input type=\"checkbox\" id=\"finger-" << f << "\" checked> <span class=\"swatch\" style=\"background:"
-        << kFingerColors[f % 10] << "\"></span>finger " << f << "</label>";
+        << kFingerColours[f % 10] << "\"></span>finger " << f << "</label>";
   if (input.fingers == 0) out << "<span class=\"note\">no regions</span>";
   out << "</div>\n<div class=\"viewer-controls\"><span><b>Layout:</b></span>"
          "<label><input type=\"radio\" name=\"layout\" id=\"layout-side\" checked> side by side</label>"

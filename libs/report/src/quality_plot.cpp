@@ -34,11 +34,11 @@ std::string formatFixed(double value, int decimals) {
 // The plot as a list of primitives, laid out once and drawn by both the SVG
 // and the OpenCV renderer, so that the two files show the same figure.
 
-struct Color {
+struct Colour {
   unsigned char r = 0, g = 0, b = 0;
 };
 
-Color parseColor(const std::string& text) {
+Colour parseColour(const std::string& text) {
   auto hex = [&](std::size_t at) {
     unsigned value = 0;
     const auto result = std::from_chars(text.data() + at, text.data() + at + 2, value, 16);
@@ -47,10 +47,10 @@ Color parseColor(const std::string& text) {
     return static_cast<unsigned char>(value);
   };
   if (text.size() != 7 || text[0] != '#') throw InputError("plot colour", "", "expected #rrggbb, got \"" + text + "\"");
-  return Color{hex(1), hex(3), hex(5)};
+  return Colour{hex(1), hex(3), hex(5)};
 }
 
-std::string colorText(const Color& c) {
+std::string colourText(const Colour& c) {
   static const char* digits = "0123456789abcdef";
   std::string out = "#";
   for (unsigned char v : {c.r, c.g, c.b}) {
@@ -62,13 +62,13 @@ std::string colorText(const Color& c) {
 
 struct Rect {
   double x0, y0, x1, y1;
-  Color fill;
+  Colour fill;
   std::string tooltip;  // SVG only
 };
 
 struct Line {
   double x0, y0, x1, y1;
-  Color color;
+  Colour colour;
   double width;
   bool behind;  // grid lines: drawn under the bars
 };
@@ -92,8 +92,8 @@ struct Scene {
   std::vector<Text> texts;
 };
 
-const Color kBlack{0, 0, 0};
-const Color kGrid{221, 221, 221};
+const Colour kBlack{0, 0, 0};
+const Colour kGrid{221, 221, 221};
 
 std::string seriesLegend(const char* name, const QualityHistogramSeries& series) {
   std::string text = std::string(name) + " (n = " + std::to_string(series.regions);
@@ -108,8 +108,8 @@ Scene layOut(const QualityHistogram& histogram, const QualityPlotOptions& option
   scene.width = options.width;
   scene.height = options.height;
   scene.title = qualityPlotTitle(histogram, options);
-  const Color rawColor = parseColor(options.raw_color);
-  const Color filteredColor = parseColor(options.filtered_color);
+  const Colour rawColour = parseColour(options.raw_colour);
+  const Colour filteredColour = parseColour(options.filtered_colour);
 
   // Legend between title and plot, so that it can never hide a bar: on one
   // line when both entries fit (widths estimated generously, as the SVG
@@ -128,9 +128,9 @@ Scene layOut(const QualityHistogram& histogram, const QualityPlotOptions& option
   auto yOf = [&](double percent) { return bottom - plotHeight * std::clamp(percent, 0.0, 100.0) / 100.0; };
 
   scene.texts.push_back({options.width / 2.0, 28, scene.title, 18, Anchor::middle, false, true});
-  scene.rects.push_back({legendX, legendY - swatch + 1, legendX + swatch, legendY + 1, rawColor, ""});
+  scene.rects.push_back({legendX, legendY - swatch + 1, legendX + swatch, legendY + 1, rawColour, ""});
   scene.texts.push_back({legendX + swatch + 6, legendY, rawLegend, legendSize, Anchor::start, false, false});
-  scene.rects.push_back({secondX, secondY - swatch + 1, secondX + swatch, secondY + 1, filteredColor, ""});
+  scene.rects.push_back({secondX, secondY - swatch + 1, secondX + swatch, secondY + 1, filteredColour, ""});
   scene.texts.push_back({secondX + swatch + 6, secondY, filteredLegend, legendSize, Anchor::start, false, false});
 
   for (int percent = 0; percent <= 100; percent += 20) {
@@ -146,15 +146,15 @@ Scene layOut(const QualityHistogram& histogram, const QualityPlotOptions& option
   for (std::size_t i = 0; i < bars; ++i) {
     const double center = left + groupWidth * (double(i) + 0.5);
     const std::string condition = i + 1 < bars ? "Q_n >= " + histogram.labels[i] : std::string("Q_n < 0");
-    auto bar = [&](const QualityHistogramSeries& series, const char* name, double x0, const Color& color) {
+    auto bar = [&](const QualityHistogramSeries& series, const char* name, double x0, const Colour& colour) {
       if (i >= series.percent.size()) return;
       const std::string tooltip = std::string(name) + ", " + condition + ": " + formatFixed(series.percent[i], 1) +
                                   " % (" + std::to_string(series.counts[i]) + " of " +
                                   std::to_string(series.regions) + ")";
-      scene.rects.push_back({x0, yOf(series.percent[i]), x0 + barWidth, bottom, color, tooltip});
+      scene.rects.push_back({x0, yOf(series.percent[i]), x0 + barWidth, bottom, colour, tooltip});
     };
-    bar(histogram.raw, "raw mesh", center - barWidth - 1, rawColor);
-    bar(histogram.filtered, "filtered mesh", center + 1, filteredColor);
+    bar(histogram.raw, "raw mesh", center - barWidth - 1, rawColour);
+    bar(histogram.filtered, "filtered mesh", center + 1, filteredColour);
     scene.lines.push_back({center, bottom, center, bottom + 5, kBlack, 1, false});
     scene.texts.push_back({center, bottom + 19, histogram.labels[i], 12, Anchor::middle, false, false});
   }
@@ -184,18 +184,18 @@ std::string renderSvg(const Scene& scene) {
   for (const auto& line : scene.lines)
     if (line.behind)
       out << "<line x1=\"" << num(line.x0) << "\" y1=\"" << num(line.y0) << "\" x2=\"" << num(line.x1) << "\" y2=\""
-          << num(line.y1) << "\" stroke=\"" << colorText(line.color) << "\" stroke-width=\"" << num(line.width)
+          << num(line.y1) << "\" stroke=\"" << colourText(line.colour) << "\" stroke-width=\"" << num(line.width)
           << "\"/>\n";
   for (const auto& rect : scene.rects) {
     out << "<rect x=\"" << num(rect.x0) << "\" y=\"" << num(rect.y0) << "\" width=\"" << num(rect.x1 - rect.x0)
-        << "\" height=\"" << num(rect.y1 - rect.y0) << "\" fill=\"" << colorText(rect.fill) << '"';
+        << "\" height=\"" << num(rect.y1 - rect.y0) << "\" fill=\"" << colourText(rect.fill) << '"';
     if (rect.tooltip.empty()) out << "/>\n";
     else out << "><title>" << xmlEscape(rect.tooltip) << "</title></rect>\n";
   }
   for (const auto& line : scene.lines)
     if (!line.behind)
       out << "<line x1=\"" << num(line.x0) << "\" y1=\"" << num(line.y0) << "\" x2=\"" << num(line.x1) << "\" y2=\""
-          << num(line.y1) << "\" stroke=\"" << colorText(line.color) << "\" stroke-width=\"" << num(line.width)
+          << num(line.y1) << "\" stroke=\"" << colourText(line.colour) << "\" stroke-width=\"" << num(line.width)
           << "\"/>\n";
   out << "</g>\n";
   out << "<g font-family=\"DejaVu Sans, Arial, Helvetica, sans-serif\" fill=\"#000000\">\n";
@@ -211,7 +211,7 @@ std::string renderSvg(const Scene& scene) {
   return out.str();
 }
 
-cv::Scalar bgr(const Color& c) { return cv::Scalar(c.b, c.g, c.r); }
+cv::Scalar bgr(const Colour& c) { return cv::Scalar(c.b, c.g, c.r); }
 int px(double v) { return int(std::lround(v)); }
 
 // Hershey fonts are about 30 px per unit scale in cap-plus-descender height;
@@ -246,7 +246,7 @@ cv::Mat renderRaster(const Scene& scene) {
   cv::Mat image(scene.height, scene.width, CV_8UC3, cv::Scalar(255, 255, 255));
   for (const auto& line : scene.lines)
     if (line.behind)
-      cv::line(image, cv::Point(px(line.x0), px(line.y0)), cv::Point(px(line.x1), px(line.y1)), bgr(line.color),
+      cv::line(image, cv::Point(px(line.x0), px(line.y0)), cv::Point(px(line.x1), px(line.y1)), bgr(line.colour),
                std::max(1, px(line.width)));
   for (const auto& rect : scene.rects) {
     // cv::rectangle includes both corners; the SVG rect ends before x1/y1.
@@ -255,7 +255,7 @@ cv::Mat renderRaster(const Scene& scene) {
   }
   for (const auto& line : scene.lines)
     if (!line.behind)
-      cv::line(image, cv::Point(px(line.x0), px(line.y0)), cv::Point(px(line.x1), px(line.y1)), bgr(line.color),
+      cv::line(image, cv::Point(px(line.x0), px(line.y0)), cv::Point(px(line.x1), px(line.y1)), bgr(line.colour),
                std::max(1, px(line.width)));
   for (const auto& text : scene.texts) drawText(image, text);
   return image;

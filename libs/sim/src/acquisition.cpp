@@ -235,15 +235,15 @@ Scene buildScene(const TriangleMesh& object, Setup setup) {
     appendPrism(scene.mesh, 0.02, top - 0.16, top - 0.01, 24);
   }
   const std::size_t object_faces = scene.object_faces;
-  scene.appearance.color = [=](int face, const Eigen::Vector3d& p) -> Color {
+  scene.appearance.colour = [=](int face, const Eigen::Vector3d& p) -> Colour {
     const auto f = static_cast<std::size_t>(face);
     if (f < object_faces) return {200, 200, 190};  // light, matte object
     if (f >= checker_begin && f < checker_end) {
       // 2 cm squares: the target an RGB-D pipeline detects and removes.
       const long i = static_cast<long>(std::floor(p.x() / 0.02)), j = static_cast<long>(std::floor(p.y() / 0.02));
-      return ((i + j) & 1) ? Color{20, 20, 20} : Color{235, 235, 235};
+      return ((i + j) & 1) ? Colour{20, 20, 20} : Colour{235, 235, 235};
     }
-    return setup == Setup::A ? Color{150, 120, 90} : Color{90, 90, 95};  // wooden table; metal post
+    return setup == Setup::A ? Colour{150, 120, 90} : Colour{90, 90, 95};  // wooden table; metal post
   };
   scene.appearance.reflectivity = [=](int face, const Eigen::Vector3d& p) -> double {
     const auto f = static_cast<std::size_t>(face);

@@ -83,10 +83,10 @@ void renderKinect(const RenderContext& context, SimulatedScan& scan) {
           theta = incidenceAngle(state[k].nominal, hit.face_normal);
           scan.true_range[pixel] = static_cast<float>(camera.toCamera(hit.point).z());
           scan.true_face[pixel] = hit.face;
-          const Color albedo = context.color(hit.face, hit.point);
+          const Colour albedo = context.colour(hit.face, hit.point);
           const double shade = model.ambient_light + (1.0 - model.ambient_light) * std::cos(theta);
           for (int c = 0; c < 3; ++c)
-            scan.color[pixel][c] = static_cast<std::uint8_t>(std::lround(std::clamp(albedo[c] * shade, 0.0, 255.0)));
+            scan.colour[pixel][c] = static_cast<std::uint8_t>(std::lround(std::clamp(albedo[c] * shade, 0.0, 255.0)));
         }
         const double sigma = kinectLateralSigmaPx(model, theta);
         const double du = sigma * random[k].normal();

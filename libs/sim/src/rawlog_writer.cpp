@@ -48,14 +48,14 @@ mrpt::obs::CObservation3DRangeScan observationOf(const SensorModel& model, const
       obs.rangeImage(r, c) = (range > 0 && counts <= 65535.0) ? static_cast<std::uint16_t>(counts) : 0;
     }
 
-  if (!scan.color.empty()) {
+  if (!scan.colour.empty()) {
     obs.hasIntensityImage = true;
     obs.intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_VISIBLE;
     obs.intensityImage = mrpt::img::CImage(scan.width, scan.height, mrpt::img::CH_RGB);
     for (int r = 0; r < scan.height; ++r) {
       auto* row = obs.intensityImage.ptrLine<std::uint8_t>(static_cast<unsigned>(r));
       for (int c = 0; c < scan.width; ++c) {
-        const Color& rgb = scan.color[static_cast<std::size_t>(r) * scan.width + c];
+        const Colour& rgb = scan.colour[static_cast<std::size_t>(r) * scan.width + c];
         // CImage keeps colour pixels in OpenCV's BGR order.
         row[3 * c + 0] = rgb[2];
         row[3 * c + 1] = rgb[1];

@@ -17,9 +17,9 @@ SimulatedScan simulateScan(const RayCaster& scene, const SceneAppearance& appear
     throw InputError("camera pose", "", "the camera pose must be finite");
 
   // Defaults, and reflectivities kept physical whatever the callback says.
-  auto color = appearance.color ? appearance.color
-                                : std::function<Color(int, const Eigen::Vector3d&)>(
-                                      [](int, const Eigen::Vector3d&) { return Color{128, 128, 128}; });
+  auto colour = appearance.colour ? appearance.colour
+                                : std::function<Colour(int, const Eigen::Vector3d&)>(
+                                      [](int, const Eigen::Vector3d&) { return Colour{128, 128, 128}; });
   std::function<double(int, const Eigen::Vector3d&)> reflectivity;
   if (appearance.reflectivity) {
     reflectivity = [f = appearance.reflectivity](int face, const Eigen::Vector3d& point) {
@@ -29,7 +29,7 @@ SimulatedScan simulateScan(const RayCaster& scene, const SceneAppearance& appear
   } else {
     reflectivity = [](int, const Eigen::Vector3d&) { return 0.6; };
   }
-  const RenderContext context{scene, model, CameraFrame(camera_in_scene), std::move(color), std::move(reflectivity),
+  const RenderContext context{scene, model, CameraFrame(camera_in_scene), std::move(colour), std::move(reflectivity),
                               seed};
 
   SimulatedScan scan;
@@ -42,7 +42,7 @@ SimulatedScan simulateScan(const RayCaster& scene, const SceneAppearance& appear
   scan.true_range.assign(n, 0.0f);
   scan.true_face.assign(n, -1);
   if (model.type == SensorType::Kinect) {
-    scan.color.assign(n, Color{0, 0, 0});
+    scan.colour.assign(n, Colour{0, 0, 0});
     renderKinect(context, scan);
   } else {
     renderSr4000(context, scan);
@@ -58,7 +58,7 @@ PointCloud unprojectScan(const SimulatedScan& scan, const SensorModel& model, Ra
                                      " pixels, the sensor model " + std::to_string(model.intrinsics.width) + " x " +
                                      std::to_string(model.intrinsics.height));
   const std::vector<float>& ranges = source == RangeSource::Measured ? scan.range : scan.true_range;
-  if (ranges.size() != n || (!scan.color.empty() && scan.color.size() != n) ||
+  if (ranges.size() != n || (!scan.colour.empty() && scan.colour.size() != n) ||
       (!scan.intensity.empty() && scan.intensity.size() != n) || (!scan.confidence.empty() && scan.confidence.size() != n))
     throw InputError("scan", "", "image arrays do not hold width x height = " + std::to_string(n) + " pixels");
 
@@ -74,7 +74,7 @@ PointCloud unprojectScan(const SimulatedScan& scan, const SensorModel& model, Ra
       // Depth scales the (x, y, 1) direction; a ray range its unit vector.
       cloud.positions.push_back(model.range_is_depth ? Eigen::Vector3d(range * direction)
                                                      : Eigen::Vector3d(range * direction.normalized()));
-      if (!scan.color.empty()) cloud.colors.push_back(scan.color[i]);
+      if (!scan.colour.empty()) cloud.colours.push_back(scan.colour[i]);
       pixel.push_back(static_cast<double>(i));
       intensity.push_back(scan.intensity.empty() ? 0.0 : scan.intensity[i]);
       confidence.push_back(scan.confidence.empty() ? 0.0 : scan.confidence[i]);

@@ -41,7 +41,7 @@ struct RenderContext {
   const RayCaster& scene;
   const SensorModel& model;
   CameraFrame camera;
-  std::function<Color(int, const Eigen::Vector3d&)> color;           // never empty
+  std::function<Colour(int, const Eigen::Vector3d&)> colour;           // never empty
   std::function<double(int, const Eigen::Vector3d&)> reflectivity;   // never empty, clamped to [0, 1] by the caller
   std::uint64_t seed;
 };

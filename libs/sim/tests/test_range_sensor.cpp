@@ -340,15 +340,15 @@ TEST(KinectModel, ProjectorShadowsFallOnTheExpectedSide) {
 TEST(KinectModel, ColourImageIsShadedAlbedo) {
   const SensorModel model = kinectV1();
   SceneAppearance appearance;
-  appearance.color = [](int, const Eigen::Vector3d&) { return Color{200, 100, 50}; };
+  appearance.colour = [](int, const Eigen::Vector3d&) { return Colour{200, 100, 50}; };
   const Eigen::Vector3d normal = tiltedNormal(60 * kDegree);
   const SimulatedScan scan = simulateScan(RayCaster(square({0, 0, 2.0}, normal, 20.0)), appearance, kIdentity, model, 1);
   const std::size_t centre = static_cast<std::size_t>(240 * 640 + 320);
   const double theta = std::acos(std::abs(pixelDirection(model.intrinsics, 320, 240).normalized().dot(normal)));
   const double shade = model.ambient_light + (1 - model.ambient_light) * std::cos(theta);
-  EXPECT_NEAR(scan.color[centre][0], 200 * shade, 0.6);
-  EXPECT_NEAR(scan.color[centre][1], 100 * shade, 0.6);
-  EXPECT_NEAR(scan.color[centre][2], 50 * shade, 0.6);
+  EXPECT_NEAR(scan.colour[centre][0], 200 * shade, 0.6);
+  EXPECT_NEAR(scan.colour[centre][1], 100 * shade, 0.6);
+  EXPECT_NEAR(scan.colour[centre][2], 50 * shade, 0.6);
   EXPECT_EQ(scan.confidence[centre], 255);
   EXPECT_GT(scan.intensity[centre], 0);
 }
@@ -510,7 +510,7 @@ TEST(RangeSensor, UnprojectedGroundTruthReproducesTheHitPoints) {
     EXPECT_LT(worst_pixel, 1e-6) << model.name;
     // The measured cloud keeps the pixel order and the colours.
     const PointCloud measured = unprojectScan(scan, model);
-    EXPECT_EQ(measured.hasColors(), model.type == SensorType::Kinect);
+    EXPECT_EQ(measured.hasColours(), model.type == SensorType::Kinect);
     EXPECT_GT(measured.size(), cloud.size() / 2);
   }
 }
@@ -530,7 +530,7 @@ TEST(RangeSensor, DeterministicForASeedWhateverTheThreadCount) {
     const SimulatedScan one = render(1, 42), two = render(2, 42), again = render(2, 42), other = render(2, 43);
     for (const SimulatedScan* s : {&two, &again}) {
       EXPECT_EQ(one.range, s->range) << model.name;
-      EXPECT_EQ(one.color, s->color);
+      EXPECT_EQ(one.colour, s->colour);
       EXPECT_EQ(one.intensity, s->intensity);
       EXPECT_EQ(one.confidence, s->confidence);
       EXPECT_EQ(one.true_range, s->true_range);

@@ -220,11 +220,11 @@ TEST(Acquisition, SceneHoldsTheObjectAndTheFixtures) {
     ASSERT_TRUE(hit.hit);
     EXPECT_GE(static_cast<std::size_t>(hit.face), scene.object_faces);
     EXPECT_NEAR(hit.point.z(), -1e-4, 1e-9);
-    ASSERT_TRUE(scene.appearance.color && scene.appearance.reflectivity);
+    ASSERT_TRUE(scene.appearance.colour && scene.appearance.reflectivity);
     if (setup == sim::Setup::B) {
       // The checkerboard: 2 cm squares alternate dark and light.
-      const Color a = scene.appearance.color(hit.face, Eigen::Vector3d(0.01, 0.01, 0));
-      const Color b = scene.appearance.color(hit.face, Eigen::Vector3d(0.03, 0.01, 0));
+      const Colour a = scene.appearance.colour(hit.face, Eigen::Vector3d(0.01, 0.01, 0));
+      const Colour b = scene.appearance.colour(hit.face, Eigen::Vector3d(0.03, 0.01, 0));
       EXPECT_NE(a, b);
     }
   }

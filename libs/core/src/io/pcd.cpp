@@ -36,7 +36,7 @@ namespace {
 using detail::TextScanner;
 
 enum class DataEncoding { Ascii, Binary, BinaryCompressed };
-enum class Role { X, Y, Z, NormalX, NormalY, NormalZ, Color, Attribute, Skip };
+enum class Role { X, Y, Z, NormalX, NormalY, NormalZ, Colour, Attribute, Skip };
 
 struct PcdField {
   std::string name;
@@ -96,7 +96,7 @@ Role roleOf(const std::string& name) {
   if (name == "normal_x") return Role::NormalX;
   if (name == "normal_y") return Role::NormalY;
   if (name == "normal_z") return Role::NormalZ;
-  if (name == "rgb" || name == "rgba") return Role::Color;
+  if (name == "rgb" || name == "rgba") return Role::Colour;
   return Role::Attribute;
 }
 
@@ -116,14 +116,14 @@ void assignRoles(PcdHeader& header, const std::function<void(const std::string&)
       fail(std::string("field '") + axis + "' has COUNT " + std::to_string(found->count) + ", expected 1");
   }
   int normal_components = 0;
-  bool have_color = false;
+  bool have_colour = false;
   for (PcdField& field : header.fields) {
     Role role = roleOf(field.name);
     ScalarType type;
     if (field.name == "_" || field.count != 1) role = Role::Skip;  // PCL padding, histograms
     if (role >= Role::NormalX && role <= Role::NormalZ) ++normal_components;
-    if (role == Role::Color && (field.size != 4 || have_color)) role = Role::Attribute;
-    if (role == Role::Color) have_color = true;
+    if (role == Role::Colour && (field.size != 4 || have_colour)) role = Role::Attribute;
+    if (role == Role::Colour) have_colour = true;
     if (role == Role::Attribute && !attributeType(field, type)) role = Role::Skip;
     field.role = role;
   }
@@ -274,9 +274,9 @@ double loadScalar(const char* p, char type, std::size_t size) {
   }
 }
 
-Color unpackColor(std::uint32_t packed) {
+Colour unpackColour(std::uint32_t packed) {
   // PCL packs 0xAARRGGBB, i.e. bytes b, g, r, a in little-endian memory.
-  return Color{static_cast<std::uint8_t>((packed >> 16) & 0xff), static_cast<std::uint8_t>((packed >> 8) & 0xff),
+  return Colour{static_cast<std::uint8_t>((packed >> 16) & 0xff), static_cast<std::uint8_t>((packed >> 8) & 0xff),
                static_cast<std::uint8_t>(packed & 0xff)};
 }
 
@@ -286,7 +286,7 @@ public:
   CloudBuilder(const PcdHeader& header, std::size_t expected_points) : header_(header) {
     for (const PcdField& field : header.fields) {
       if (field.role == Role::NormalX) has_normals_ = true;
-      if (field.role == Role::Color) has_colors_ = true;
+      if (field.role == Role::Colour) has_colours_ = true;
       if (field.role == Role::Attribute) {
         ScalarType type = ScalarType::Float32;
         attributeType(field, type);
@@ -295,7 +295,7 @@ public:
     }
     cloud_.positions.reserve(expected_points);
     if (has_normals_) cloud_.normals.reserve(expected_points);
-    if (has_colors_) cloud_.colors.reserve(expected_points);
+    if (has_colours_) cloud_.colours.reserve(expected_points);
     for (Attribute& a : cloud_.attributes) a.values.reserve(expected_points);
     values_.resize(header.fields.size());
   }
@@ -316,7 +316,7 @@ public:
     if (!position.allFinite()) return;
     cloud_.positions.push_back(position);
     if (has_normals_) cloud_.normals.push_back(normal);
-    if (has_colors_) cloud_.colors.push_back(unpackColor(packed_));
+    if (has_colours_) cloud_.colours.push_back(unpackColour(packed_));
     for (std::size_t f = 0; f < header_.fields.size(); ++f)
       if (header_.fields[f].role == Role::Attribute) (attribute++)->values.push_back(values_[f]);
   }
@@ -329,7 +329,7 @@ private:
   std::vector<double> values_;
   std::uint32_t packed_ = 0;
   bool has_normals_ = false;
-  bool has_colors_ = false;
+  bool has_colours_ = false;
 };
 
 PointCloud readBinary(const PcdHeader& header, const std::vector<BinaryColumn>& columns) {
@@ -340,7 +340,7 @@ PointCloud readBinary(const PcdHeader& header, const std::vector<BinaryColumn>& 
       const PcdField& field = header.fields[f];
       if (field.role == Role::Skip) continue;
       const char* p = columns[f].start + i * columns[f].stride;
-      if (field.role == Role::Color) builder.setPacked(load<std::uint32_t>(p));
+      if (field.role == Role::Colour) builder.setPacked(load<std::uint32_t>(p));
       else builder.value(f) = loadScalar(p, field.type, field.size);
     }
     builder.finishPoint();
@@ -414,7 +414,7 @@ PointCloud readAscii(std::string_view bytes, const std::string& source, const Pc
       if (field.role == Role::Skip) continue;
       const std::string_view token = tokens[field.column];
       bool ok;
-      if (field.role == Role::Color) {
+      if (field.role == Role::Colour) {
         std::uint32_t packed = 0;
         ok = parseAsciiPacked(token, field.type, packed);
         builder.setPacked(packed);
@@ -568,8 +568,8 @@ void writePcd(std::ostream& out, const PointCloud& cloud, const WriteOptions& op
   if (cloud.hasNormals() && cloud.normals.size() != n)
     throw std::invalid_argument("writePcd: " + std::to_string(cloud.normals.size()) + " normals for " +
                                 std::to_string(n) + " points");
-  if (cloud.hasColors() && cloud.colors.size() != n)
-    throw std::invalid_argument("writePcd: " + std::to_string(cloud.colors.size()) + " colours for " +
+  if (cloud.hasColours() && cloud.colours.size() != n)
+    throw std::invalid_argument("writePcd: " + std::to_string(cloud.colours.size()) + " colours for " +
                                 std::to_string(n) + " points");
   const ScalarType real = options.real_type == ScalarType::Float32 ? ScalarType::Float32 : ScalarType::Float64;
 
@@ -581,10 +581,10 @@ void writePcd(std::ostream& out, const PointCloud& cloud, const WriteOptions& op
   if (cloud.hasNormals())
     for (int k = 0; k < 3; ++k)
       fields.push_back({normal_axes[k], real, [&cloud, k](std::size_t i) { return cloud.normals[i][k]; }});
-  if (cloud.hasColors())
+  if (cloud.hasColours())
     // "rgba" U 4 is the field PCL's PointXYZRGBA declares, so PCL maps it by name and type.
     fields.push_back({"rgba", ScalarType::UInt32, [&cloud](std::size_t i) {
-                        const Color& c = cloud.colors[i];
+                        const Colour& c = cloud.colours[i];
                         // Opaque alpha, as PCL's own point types default to.
                         return static_cast<double>(0xff000000u | std::uint32_t{c[0]} << 16 | std::uint32_t{c[1]} << 8 |
                                                    std::uint32_t{c[2]});

@@ -333,19 +333,19 @@ void readVertices(Source& source, const PlyElement& element, const std::string& 
                      "the vertex element has no x, y and z properties");
   const bool normals = has[static_cast<int>(VertexRole::NX)] && has[static_cast<int>(VertexRole::NY)] &&
                        has[static_cast<int>(VertexRole::NZ)];
-  const bool colors = has[static_cast<int>(VertexRole::Red)] && has[static_cast<int>(VertexRole::Green)] &&
+  const bool colours = has[static_cast<int>(VertexRole::Red)] && has[static_cast<int>(VertexRole::Green)] &&
                       has[static_cast<int>(VertexRole::Blue)];
   // A lone nx (or red) without its siblings is kept as a plain attribute.
   for (std::size_t k = 0; k < roles.size(); ++k) {
     VertexRole& r = roles[k];
     if (!normals && (r == VertexRole::NX || r == VertexRole::NY || r == VertexRole::NZ)) r = VertexRole::Attribute;
-    if (!colors && (r == VertexRole::Red || r == VertexRole::Green || r == VertexRole::Blue)) r = VertexRole::Attribute;
+    if (!colours && (r == VertexRole::Red || r == VertexRole::Green || r == VertexRole::Blue)) r = VertexRole::Attribute;
   }
 
   const std::size_t n = element.count;
   cloud.positions.assign(n, Eigen::Vector3d::Zero());
   if (normals) cloud.normals.assign(n, Eigen::Vector3d::Zero());
-  if (colors) cloud.colors.assign(n, Color{0, 0, 0});
+  if (colours) cloud.colours.assign(n, Colour{0, 0, 0});
   // Add every attribute before taking pointers: adding may move the others.
   for (std::size_t k = 0; k < roles.size(); ++k)
     if (roles[k] == VertexRole::Attribute) {
@@ -372,9 +372,9 @@ void readVertices(Source& source, const PlyElement& element, const std::string& 
         case VertexRole::NX: cloud.normals[i].x() = value; break;
         case VertexRole::NY: cloud.normals[i].y() = value; break;
         case VertexRole::NZ: cloud.normals[i].z() = value; break;
-        case VertexRole::Red: cloud.colors[i][0] = static_cast<std::uint8_t>(value); break;
-        case VertexRole::Green: cloud.colors[i][1] = static_cast<std::uint8_t>(value); break;
-        case VertexRole::Blue: cloud.colors[i][2] = static_cast<std::uint8_t>(value); break;
+        case VertexRole::Red: cloud.colours[i][0] = static_cast<std::uint8_t>(value); break;
+        case VertexRole::Green: cloud.colours[i][1] = static_cast<std::uint8_t>(value); break;
+        case VertexRole::Blue: cloud.colours[i][2] = static_cast<std::uint8_t>(value); break;
         case VertexRole::Attribute: (*attribute_of[k])[i] = value; break;
         case VertexRole::Skip:
         case VertexRole::Count: break;
@@ -546,8 +546,8 @@ void writeBody(Sink& sink, std::ostream& out, const PointCloud& v, const std::ve
     for (int k = 0; k < 3; ++k) sink.putAs(real_type, v.positions[i][k]);
     if (v.hasNormals())
       for (int k = 0; k < 3; ++k) sink.putAs(real_type, v.normals[i][k]);
-    if (v.hasColors())
-      for (int k = 0; k < 3; ++k) sink.putAs(ScalarType::UInt8, v.colors[i][k]);
+    if (v.hasColours())
+      for (int k = 0; k < 3; ++k) sink.putAs(ScalarType::UInt8, v.colours[i][k]);
     for (const Attribute& a : v.attributes) sink.putAs(a.type, representAs(a.type, a.values[i]));
     sink.endItem();
     flushIfLarge();
@@ -587,7 +587,7 @@ void writePly(std::ostream& out, const PointCloud& vertices, const std::vector<T
   for (const char* axis : {"x", "y", "z"}) header += "property " + real + " " + axis + "\n";
   if (vertices.hasNormals())
     for (const char* axis : {"nx", "ny", "nz"}) header += "property " + real + " " + axis + "\n";
-  if (vertices.hasColors())
+  if (vertices.hasColours())
     for (const char* channel : {"red", "green", "blue"}) header += std::string("property uchar ") + channel + "\n";
   for (const Attribute& a : vertices.attributes) header += std::string("property ") + plyTypeName(a.type) + " " + a.name + "\n";
   if (!faces.empty()) {

@@ -14,18 +14,18 @@
 
 namespace icrkit {
 
-using Color = std::array<std::uint8_t, 3>;  ///< RGB, 0..255
+using Colour = std::array<std::uint8_t, 3>;  ///< RGB, 0..255
 
 struct PointCloud {
   std::vector<Eigen::Vector3d> positions;
   std::vector<Eigen::Vector3d> normals;  ///< empty, or one unit vector per point
-  std::vector<Color> colors;             ///< empty, or one per point
+  std::vector<Colour> colours;             ///< empty, or one per point
   AttributeSet attributes;               ///< each holds one value per point
 
   std::size_t size() const { return positions.size(); }
   bool empty() const { return positions.empty(); }
   bool hasNormals() const { return !normals.empty(); }
-  bool hasColors() const { return !colors.empty(); }
+  bool hasColours() const { return !colours.empty(); }
 
   /// A boolean per-point flag stored as a uchar attribute (e.g. "excluded");
   /// a missing attribute reads as false.

@@ -16,8 +16,8 @@ struct QualityPlotOptions {
   int width = 720;                           ///< pixels (SVG user units)
   int height = 440;
   std::string title;                         ///< empty: "Cumulative Q_n, N fingers"
-  std::string raw_color = "#e6550d";         ///< orange
-  std::string filtered_color = "#3182bd";    ///< blue
+  std::string raw_colour = "#e6550d";         ///< orange
+  std::string filtered_colour = "#3182bd";    ///< blue
 };
 
 /// The title used when `options.title` is empty.

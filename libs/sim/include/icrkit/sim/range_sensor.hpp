@@ -93,7 +93,7 @@ double rangeNoiseSigma(const SensorModel& model, double range, double incidence,
 /// the Kinect's IR image). Both are called concurrently from several
 /// threads, with the face hit and the point in the scene frame.
 struct SceneAppearance {
-  std::function<Color(int face, const Eigen::Vector3d& point)> color;  ///< default: mid grey
+  std::function<Colour(int face, const Eigen::Vector3d& point)> colour;  ///< default: mid grey
   std::function<double(int face, const Eigen::Vector3d& point)> reflectivity;  ///< default: 0.6
 };
 
@@ -101,7 +101,7 @@ struct SceneAppearance {
 struct SimulatedScan {
   int width = 0, height = 0;
   std::vector<float> range;          ///< metres (depth or ray range per the model), 0 = no return
-  std::vector<Color> color;          ///< Kinect: the colour image (registered to depth); empty for SR4000
+  std::vector<Colour> colour;          ///< Kinect: the colour image (registered to depth); empty for SR4000
   std::vector<std::uint8_t> intensity;   ///< SR4000 amplitude image; Kinect: IR-like grey image
   std::vector<std::uint8_t> confidence;  ///< 0..255; SR4000 from the amplitude; Kinect: 255 where valid
   // Ground truth, kept for tests (not written to rawlogs).
