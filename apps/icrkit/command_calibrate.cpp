@@ -116,7 +116,8 @@ void addCalibrateCommand(CLI::App& app, CommandRunner& runner) {
   command->add_flag("--estimate-k3", o->estimate_k3, "Also estimate k3 (held at 0 by default)");
   command->add_option("-o,--output", o->output, "Write the calibration (JSON) here, atomically");
   command->add_option("--write-rawlog", o->write_rawlog, "Write a copy of --rawlog with the calibrated camera");
-  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(calibrate(*o, context)); }; });
+  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"Checkerboard", "--board"}});
+    context.emit(calibrate(*o, context)); }; });
 }
 
 }  // namespace icrkit::app

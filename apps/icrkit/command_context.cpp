@@ -24,6 +24,15 @@ void printHuman(const nlohmann::json& value, const std::string& prefix) {
 CommandContext::CommandContext(const GlobalOptions& options)
     : options_(options), progress_(!options.quiet), start_(std::chrono::steady_clock::now()) {}
 
+void CommandContext::mapFields(std::initializer_list<std::pair<const std::string, std::string>> fields) {
+  flags_.insert(fields.begin(), fields.end());
+}
+
+InputError CommandContext::namingFlags(const InputError& error) const {
+  const auto it = flags_.find(error.source());
+  return it == flags_.end() ? error : InputError(it->second, error.location(), error.detail());
+}
+
 void CommandContext::note(const std::string& message) const {
   if (!options_.quiet) std::cerr << message << '\n';
 }

@@ -4,9 +4,12 @@
 
 #include "terminal_progress.hpp"
 
+#include <icrkit/core/error.hpp>
+
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <map>
 #include <string>
 
 namespace icrkit::app {
@@ -30,11 +33,18 @@ public:
   double elapsedMs() const;
   /// Prints the summary: as JSON with --json, else as "key: value" lines.
   void emit(const nlohmann::json& summary);
+  /// Libraries name the parameter a bad value came from by its field
+  /// (`SmoothingParameters::passes`); the command says which of its flags
+  /// sets that field, so that the user reads the flag.
+  void mapFields(std::initializer_list<std::pair<const std::string, std::string>> fields);
+  /// `error` with its source replaced by the flag mapped to it, if any.
+  InputError namingFlags(const InputError& error) const;
 
 private:
   GlobalOptions options_;
   TerminalProgress progress_;
   std::chrono::steady_clock::time_point start_;
+  std::map<std::string, std::string> flags_;
 };
 
 /// Where a command's JSON summary goes: `output` with the extension .json.

@@ -265,7 +265,8 @@ void addEvaluateCommand(CLI::App& app, CommandRunner& runner) {
   command->add_flag("--compute-normals", o->compute_normals, "Derive missing vertex normals from the faces");
   o->experiment.addTo(*command);
   command->add_option("-o,--output", o->output, "Output folder (created; files replaced atomically)")->required();
-  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(evaluate(*o, context)); }; });
+  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"Shard", "--shard"}});
+    context.emit(evaluate(*o, context)); }; });
 }
 
 void addMergeCommand(CLI::App& app, CommandRunner& runner) {

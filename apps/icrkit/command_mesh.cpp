@@ -183,7 +183,8 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner) {
                       "Sensor position x,y,z (metres) that estimated normals face (default: outwards, made "
                       "consistent over neighbours)");
   command->callback([&runner, options] {
-    runner = [options](CommandContext& context) { context.emit(mesh(*options, context)); };
+    runner = [options](CommandContext& context) { context.mapFields({{"BallPivotingParameters::radii", "--radii"}, {"BallPivotingParameters::radius_factors", "--radii"}, {"NormalEstimationParameters::radius", "--normal-radius"}, {"NormalEstimationParameters::radius_factor", "--normal-radius"}});
+    context.emit(mesh(*options, context)); };
   });
 }
 

@@ -215,7 +215,8 @@ void addPaperCommand(CLI::App& app, CommandRunner& runner) {
                     "datasets reconstructed in this run)");
   o->experiment.addTo(*command);
   command->add_option("-o,--output", o->output, "Output folder")->required();
-  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(paper(*o, context)); }; });
+  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"AcquisitionParameters::views", "--views"}, {"Shard", "--shard"}});
+    context.emit(paper(*o, context)); }; });
 }
 
 }  // namespace icrkit::app

@@ -472,7 +472,8 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
                     "Drop the excluded points before meshing the smoothed cloud (the filtered mesh then has no "
                     "excluded vertex)");
   command->callback([&runner, options] {
-    runner = [options](CommandContext& context) { context.emit(reconstruct(*options, context)); };
+    runner = [options](CommandContext& context) { context.mapFields({{"SmoothingParameters::radius", "--smoothing-radius"}, {"SmoothingParameters::radius_factor", "--smoothing-radius"}, {"SmoothingParameters::passes", "--passes"}});
+    context.emit(reconstruct(*options, context)); };
   });
 }
 

@@ -217,7 +217,8 @@ void addSensitivityCommand(CLI::App& app, CommandRunner& runner) {
   o->experiment.addTo(*command, false);
   command->add_option("-o,--output", o->output, "Output folder")->required();
   command->callback(
-      [&runner, o] { runner = [o](CommandContext& context) { context.emit(sensitivity(*o, context)); }; });
+      [&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"SensitivityParameters::noise_levels", "--noise"}, {"SensitivityParameters::rules", "--preselection"}, {"SensitivityParameters::spacing_m", "--spacing"}, {"Shard", "--shard"}, {"object name", "--object"}});
+    context.emit(sensitivity(*o, context)); }; });
 }
 
 }  // namespace icrkit::app

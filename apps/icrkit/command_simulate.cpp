@@ -156,7 +156,8 @@ void addSimulateCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--pose-error", o->pose_error, kPoseErrorHelp)->capture_default_str()->excludes(perfect);
   command->add_option("-o,--output", o->output, "Output folder (replaced only if it holds an earlier simulation)")
       ->required();
-  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(simulate(*o, context)); }; });
+  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"AcquisitionParameters::views", "--views"}, {"AcquisitionParameters::distance", "--distance"}, {"pose error model", "--pose-error"}, {"sensor name", "--sensor"}, {"setup name", "--setup"}, {"object name", "--object"}});
+    context.emit(simulate(*o, context)); }; });
 }
 
 void addDatasetsCommand(CLI::App& app, CommandRunner& runner) {
@@ -171,7 +172,8 @@ void addDatasetsCommand(CLI::App& app, CommandRunner& runner) {
   make->add_option("-o,--output", o->output, "Output folder (git-ignored by default)")->capture_default_str();
   make->add_option("--only", o->only, "Comma-separated dataset names (see `icrkit datasets list`)");
   make->add_option("--pose-error", o->pose_error, kPoseErrorHelp)->capture_default_str();
-  make->callback([&runner, o] { runner = [o](CommandContext& context) { context.emit(makeDatasets(*o, context)); }; });
+  make->callback([&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"pose error model", "--pose-error"}});
+    context.emit(makeDatasets(*o, context)); }; });
 }
 
 }  // namespace icrkit::app

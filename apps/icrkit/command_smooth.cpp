@@ -148,7 +148,8 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
                       "centroid, made consistent over neighbours)");
   addWindowNormalAngleOption(*command, options->window_normal_angle);
   command->callback(
-      [&runner, options] { runner = [options](CommandContext& context) { context.emit(smooth(*options, context)); }; });
+      [&runner, options] { runner = [options](CommandContext& context) { context.mapFields({{"SmoothingParameters::radius", "--radius"}, {"SmoothingParameters::radius_factor", "--radius"}, {"SmoothingParameters::passes", "--passes"}});
+    context.emit(smooth(*options, context)); }; });
 }
 
 }  // namespace icrkit::app

@@ -53,16 +53,16 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  CommandContext context(options);
   try {
     std::unique_ptr<tbb::global_control> thread_limit;
     if (options.threads > 0)
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                            static_cast<std::size_t>(options.threads));
-    CommandContext context(options);
     runner(context);
     return 0;
   } catch (const icrkit::InputError& e) {
-    std::cerr << "icrkit: " << e.what() << '\n';
+    std::cerr << "icrkit: " << context.namingFlags(e).what() << '\n';
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "icrkit: internal error: " << e.what() << '\n';

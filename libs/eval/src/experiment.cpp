@@ -56,7 +56,7 @@ std::pair<std::size_t, std::size_t> Shard::range(std::size_t total) const {
 
 void Shard::validate() const {
   if (count < 1 || index >= count)
-    throw InputError("--shard", "", "expected i/N with N >= 1 and 0 <= i < N, got " + std::to_string(index) + "/" +
+    throw InputError("Shard", "", "expected i/N with N >= 1 and 0 <= i < N, got " + std::to_string(index) + "/" +
                                         std::to_string(count));
 }
 

@@ -43,13 +43,13 @@ std::size_t sensitivityItems(const SensitivityParameters& params) {
 namespace {
 
 void validate(const TriangleMesh& cad, const SensitivityParameters& params) {
-  if (params.noise_levels.empty()) throw InputError("--noise", "", "at least one noise level");
+  if (params.noise_levels.empty()) throw InputError("SensitivityParameters::noise_levels", "", "at least one noise level");
   for (const double level : params.noise_levels)
     if (!(std::isfinite(level) && level >= 0))
-      throw InputError("--noise", "", "noise levels are multiples of the spacing >= 0, got " + std::to_string(level));
-  if (params.rules.empty()) throw InputError("--preselection", "", "at least one preselection rule");
+      throw InputError("SensitivityParameters::noise_levels", "", "noise levels are multiples of the spacing >= 0, got " + std::to_string(level));
+  if (params.rules.empty()) throw InputError("SensitivityParameters::rules", "", "at least one preselection rule");
   if (!(std::isfinite(params.spacing_m) && params.spacing_m >= 0))
-    throw InputError("--spacing", "", "expected metres > 0 (or 0: automatic)");
+    throw InputError("SensitivityParameters::spacing_m", "", "expected metres > 0 (or 0: automatic)");
   if (cad.faceCount() == 0) throw InputError("CAD mesh", "", "has no faces to sample");
   params.experiment.validate();
 }

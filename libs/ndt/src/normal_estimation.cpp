@@ -27,14 +27,14 @@ NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimatio
     throw InputError("viewpoints", "", "expected one viewpoint per point (" + std::to_string(n) + "), got " +
                                            std::to_string(params.viewpoints.size()));
   if (!std::isfinite(params.radius) || params.radius < 0)
-    throw InputError("--normal-radius", "", "the normal window radius must be positive, got " + std::to_string(params.radius));
+    throw InputError("NormalEstimationParameters::radius", "", "the normal window radius must be positive, got " + std::to_string(params.radius));
 
   NormalEstimationSummary summary;
   summary.points = n;
   summary.radius_m = params.radius;
   if (!(params.radius > 0)) {
     if (!(params.radius_factor > 0 && std::isfinite(params.radius_factor)))
-      throw InputError("--normal-radius", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
+      throw InputError("NormalEstimationParameters::radius_factor", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
     summary.radius_m = params.radius_factor * nearestNeighbourSpacing(cloud.positions).median;
   }
   const std::size_t k = std::max<std::size_t>(3, params.min_neighbours);

@@ -35,10 +35,10 @@ void validate(const PointCloud& cloud, const SmoothingParameters& params) {
     if (!cloud.positions[i].allFinite())
       throw InputError("point cloud", "point " + std::to_string(i), "non-finite coordinate, expected finite x, y, z");
   if (params.radius < 0 || !std::isfinite(params.radius))
-    throw InputError("--radius", "", "the window radius must be positive, got " + std::to_string(params.radius));
+    throw InputError("SmoothingParameters::radius", "", "the window radius must be positive, got " + std::to_string(params.radius));
   if (params.radius == 0 && !(params.radius_factor > 0 && std::isfinite(params.radius_factor)))
-    throw InputError("--radius", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
-  if (params.passes < 1) throw InputError("--passes", "", "at least one pass, got " + std::to_string(params.passes));
+    throw InputError("SmoothingParameters::radius_factor", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
+  if (params.passes < 1) throw InputError("SmoothingParameters::passes", "", "at least one pass, got " + std::to_string(params.passes));
   if (!(params.max_normal_angle > 0))
     throw InputError("SmoothingParameters::max_normal_angle", "",
                      "expected an angle > 0 radians, got " + std::to_string(params.max_normal_angle));
@@ -169,7 +169,7 @@ SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& 
   if (!(params.radius > 0)) summary.median_spacing_m = nearestNeighbourSpacing(cloud.positions).median;
   summary.radius_m = params.radius > 0 ? params.radius : params.radius_factor * summary.median_spacing_m;
   if (!(summary.radius_m > 0))
-    throw InputError("--radius", "", "the median point spacing is 0 (duplicated points); give the radius in metres");
+    throw InputError("SmoothingParameters::radius_factor", "", "the median point spacing is 0 (duplicated points); give the radius in metres");
 
   const std::vector<Eigen::Vector3d> original = cloud.positions;
   std::vector<int> cardinality;

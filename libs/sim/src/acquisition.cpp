@@ -90,7 +90,7 @@ Setup parseSetup(const std::string& name) {
   std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
   if (upper == "A") return Setup::A;
   if (upper == "B") return Setup::B;
-  throw InputError("--setup", "", "unknown setup '" + name + "', expected A (SR4000 on an arm around the object) or "
+  throw InputError("setup name", "", "unknown setup '" + name + "', expected A (SR4000 on an arm around the object) or "
                                   "B (fixed Kinect, object turned on the flange)");
 }
 
@@ -107,7 +107,7 @@ PoseErrorModel mobilePoseErrors() {
 PoseErrorModel independentPoseErrors(double sigma_translation, double sigma_rotation) {
   for (const double sigma : {sigma_translation, sigma_rotation})
     if (!std::isfinite(sigma) || sigma < 0)
-      throw InputError("--pose-error", "", "expected finite sigmas >= 0, got " + std::to_string(sigma));
+      throw InputError("pose error model", "", "expected finite sigmas >= 0, got " + std::to_string(sigma));
   PoseErrorModel model = perfectPoses();
   model.name = "custom";
   model.noise_translation = sigma_translation;
@@ -124,7 +124,7 @@ PoseErrorModel perfectPoses() {
   return none;
 }
 
-PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& option) {
+PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& source) {
   std::string lower = text;
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
   if (lower == "arm") return armPoseErrors();
@@ -134,7 +134,7 @@ PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& o
                                "R in deg, mrad or rad, e.g. 5mm,1deg), got '" + text + "'";
   const std::size_t comma = lower.find(',');
   if (comma == std::string::npos || lower.find(',', comma + 1) != std::string::npos)
-    throw InputError(option, "", expected);
+    throw InputError(source, "", expected);
   // A value is a number followed by one of its units: a bare number would
   // leave 5 (mm? m?) to a guess.
   struct Unit {
@@ -144,17 +144,17 @@ PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& o
   auto value = [&](const std::string& item, std::initializer_list<Unit> units) {
     if (item.empty() || !(std::isdigit(static_cast<unsigned char>(item[0])) || item[0] == '.' || item[0] == '-' ||
                           item[0] == '+'))
-      throw InputError(option, "", expected);
+      throw InputError(source, "", expected);
     char* end = nullptr;
     const double number = std::strtod(item.c_str(), &end);
     const std::string suffix(end);
     for (const Unit& u : units)
       if (suffix == u.suffix) {
         if (!std::isfinite(number)) break;
-        if (number < 0) throw InputError(option, "", "expected sigmas >= 0, got '" + item + "' in '" + text + "'");
+        if (number < 0) throw InputError(source, "", "expected sigmas >= 0, got '" + item + "' in '" + text + "'");
         return number * u.scale;
       }
-    throw InputError(option, "", expected);
+    throw InputError(source, "", expected);
   };
   const double translation = value(lower.substr(0, comma), {{"mm", 1e-3}, {"cm", 1e-2}, {"m", 1.0}});
   const double rotation = value(lower.substr(comma + 1), {{"deg", kPi / 180.0}, {"mrad", 1e-3}, {"rad", 1.0}});
@@ -163,9 +163,9 @@ PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& o
 
 std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::AlignedBox3d& object_bounds) {
   if (params.views <= 0)
-    throw InputError("--views", "", "expected at least one view, got " + std::to_string(params.views));
+    throw InputError("AcquisitionParameters::views", "", "expected at least one view, got " + std::to_string(params.views));
   if (!std::isfinite(params.distance) || params.distance < 0)
-    throw InputError("--distance", "", "expected a finite distance >= 0 m (0: the setup's default)");
+    throw InputError("AcquisitionParameters::distance", "", "expected a finite distance >= 0 m (0: the setup's default)");
   if (object_bounds.isEmpty()) throw InputError("object", "", "the object has no vertices");
   const double distance = params.distance > 0 ? params.distance : (params.setup == Setup::A ? 0.6 : 0.7);
   const Eigen::Vector3d centre = object_bounds.center();

@@ -29,7 +29,7 @@ CadObject parseCadObject(const std::string& name) {
     if (names[i] == name) return static_cast<CadObject>(i);
     expected += (i ? ", " : "") + names[i];
   }
-  throw InputError("--object", "", "unknown object '" + name + "', expected one of " + expected);
+  throw InputError("object name", "", "unknown object '" + name + "', expected one of " + expected);
 }
 
 TriangleMesh makeCadObject(CadObject object) {

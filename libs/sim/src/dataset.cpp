@@ -102,7 +102,7 @@ DatasetSummary simulateDataset(const DatasetSpec& spec, const std::string& direc
   const fs::path target(directory);
   checkTarget(target);
   if (spec.acquisition.views <= 0)
-    throw InputError("--views", "", "expected at least one view, got " + std::to_string(spec.acquisition.views));
+    throw InputError("AcquisitionParameters::views", "", "expected at least one view, got " + std::to_string(spec.acquisition.views));
 
   // The staging folder first: an unwritable output fails before any work.
   fs::path staging = target;

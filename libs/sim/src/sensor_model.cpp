@@ -16,7 +16,7 @@ namespace icrkit::sim {
 SensorType parseSensorType(const std::string& name) {
   if (name == "kinect") return SensorType::Kinect;
   if (name == "sr4000") return SensorType::Sr4000;
-  throw InputError("--sensor", "", "unknown sensor '" + name + "', expected one of kinect, sr4000");
+  throw InputError("sensor name", "", "unknown sensor '" + name + "', expected one of kinect, sr4000");
 }
 
 std::string sensorTypeName(SensorType type) {
@@ -24,7 +24,7 @@ std::string sensorTypeName(SensorType type) {
     case SensorType::Kinect: return "kinect";
     case SensorType::Sr4000: return "sr4000";
   }
-  throw InputError("--sensor", "", "unknown sensor type " + std::to_string(static_cast<int>(type)));
+  throw InputError("sensor name", "", "unknown sensor type " + std::to_string(static_cast<int>(type)));
 }
 
 SensorModel sensorModel(SensorType type) {
@@ -32,7 +32,7 @@ SensorModel sensorModel(SensorType type) {
     case SensorType::Kinect: return kinectV1();
     case SensorType::Sr4000: return swissRangerSr4000();
   }
-  throw InputError("--sensor", "", "unknown sensor type " + std::to_string(static_cast<int>(type)));
+  throw InputError("sensor name", "", "unknown sensor type " + std::to_string(static_cast<int>(type)));
 }
 
 double rangeNoiseSigma(const SensorModel& model, double range, double incidence, double reflectivity) {

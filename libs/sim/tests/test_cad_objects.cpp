@@ -180,7 +180,7 @@ TEST(CadObjects, UnknownNameIsAnInputError) {
     parseCadObject("teapot");
     FAIL() << "no exception";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.source(), "--object");
+    EXPECT_EQ(e.source(), "object name");
     EXPECT_EQ(e.location(), "");
     EXPECT_NE(e.detail().find("'teapot'"), std::string::npos);
     EXPECT_NE(e.detail().find("cup, paper_cup, bottle, coffee_pot, wooden_toy_1, wooden_toy_2"), std::string::npos);

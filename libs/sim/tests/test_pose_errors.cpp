@@ -189,7 +189,7 @@ TEST(PoseErrors, ParsesModelsAndUnits) {
       parsePoseErrorModel(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
     } catch (const InputError& error) {
-      EXPECT_EQ(error.source(), "--pose-error") << bad;
+      EXPECT_EQ(error.source(), "pose error model") << bad;
     }
   }
   EXPECT_THROW(independentPoseErrors(-0.001, 0.0), InputError);

@@ -131,7 +131,7 @@ TEST(RangeSensor, SensorNames) {
       parseSensorType(bad);
       ADD_FAILURE() << "'" << bad << "' was accepted";
     } catch (const InputError& e) {
-      EXPECT_EQ(e.source(), "--sensor");
+      EXPECT_EQ(e.source(), "sensor name");
       EXPECT_NE(e.detail().find("kinect, sr4000"), std::string::npos) << e.what();
     }
   }

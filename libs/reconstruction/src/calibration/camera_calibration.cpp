@@ -27,7 +27,7 @@ void checkImage(const GrayImage& image, std::size_t index) {
 
 void checkBoard(const Checkerboard& board) {
   if (board.inner_columns < 2 || board.inner_rows < 2 || !(board.square_size > 0) || !std::isfinite(board.square_size))
-    throw InputError("--board", "", "expected at least 2 x 2 inner corners and a square size > 0 m");
+    throw InputError("Checkerboard", "", "expected at least 2 x 2 inner corners and a square size > 0 m");
 }
 
 std::vector<cv::Point3f> boardCorners(const Checkerboard& board) {

@@ -819,14 +819,14 @@ std::vector<double> radiiFor(const BallPivotingParameters& params, const Spacing
   std::vector<double> radii = params.radii;
   if (radii.empty()) {
     if (params.radius_factors.empty())
-      throw InputError("--radii", "", "give radii in metres or as multiples of the median spacing");
+      throw InputError("BallPivotingParameters::radius_factors", "", "give radii in metres or as multiples of the median spacing");
     if (!(spacing > 0.0))
-      throw InputError("--radii", "",
+      throw InputError("BallPivotingParameters::radius_factors", "",
                        "the median point spacing is 0 (more than half the points are duplicates); give radii in "
                        "metres");
     for (double f : params.radius_factors) {
       if (!std::isfinite(f) || !(f > 0.0))
-        throw InputError("--radii", "", "a radius factor must be finite and > 0, got " + std::to_string(f));
+        throw InputError("BallPivotingParameters::radius_factors", "", "a radius factor must be finite and > 0, got " + std::to_string(f));
       radii.push_back(f * spacing);
     }
     const double gap = params.gap_radius_factor * spacing_stats.p90;
@@ -834,7 +834,7 @@ std::vector<double> radiiFor(const BallPivotingParameters& params, const Spacing
   }
   for (double r : radii)
     if (!std::isfinite(r) || !(r > 0.0))
-      throw InputError("--radii", "", "a radius must be finite and > 0 m, got " + std::to_string(r));
+      throw InputError("BallPivotingParameters::radii", "", "a radius must be finite and > 0 m, got " + std::to_string(r));
   std::sort(radii.begin(), radii.end());
   radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
   return radii;

@@ -64,9 +64,9 @@ PoseErrorModel perfectPoses();
 
 /// "arm", "mobile", "none" (any case), or explicit per-view sigmas
 /// "T,R" with units, T in mm, cm or m and R in deg, mrad or rad
-/// ("5mm,1deg"; see independentPoseErrors). Throws InputError(option, ...)
+/// ("5mm,1deg"; see independentPoseErrors). Throws InputError(source, ...)
 /// otherwise.
-PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& option = "--pose-error");
+PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& source = "pose error model");
 
 struct AcquisitionParameters {
   Setup setup = Setup::B;
