@@ -42,6 +42,8 @@ function(icrkit_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  # The one shared test-support header (tests/support/test_support.hpp).
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/support)
   target_compile_definitions(${name} PRIVATE
     ICRKIT_SHARED_DATA_DIR="${ICRKIT_SHARED_DATA_DIR}"
     ICRKIT_SOURCE_DIR="${PROJECT_SOURCE_DIR}")

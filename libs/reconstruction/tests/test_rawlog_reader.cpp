@@ -15,7 +15,7 @@
 
 #include <gtest/gtest.h>
 
-#include "expect_input_error.hpp"
+#include "test_support.hpp"
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
@@ -49,7 +49,7 @@ std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> loadWithMrpt(const std::str
   return out;
 }
 
-using testing_support::expectInputError;
+using test::expectInputError;
 
 TEST(RawlogReader, MatchesMrptUnprojection) {
   const std::string dir = simulatedRecording(4, false);

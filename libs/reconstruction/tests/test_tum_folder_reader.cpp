@@ -14,7 +14,7 @@
 
 #include <gtest/gtest.h>
 
-#include "expect_input_error.hpp"
+#include "test_support.hpp"
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -35,7 +35,7 @@ std::string sharedData(const std::string& relative) {
   return std::string(ICRKIT_SHARED_DATA_DIR) + "/" + relative;
 }
 
-using testing_support::expectInputError;
+using test::expectInputError;
 
 constexpr int kWidth = 8, kHeight = 6;
 

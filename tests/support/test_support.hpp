@@ -1,6 +1,9 @@
 #pragma once
-// Helpers shared by the core tests.
+// Helpers shared by every library's tests (icrkit_add_test puts this folder
+// on each test binary's include path): shared-data paths, file reading, a
+// scratch folder, a unit cube, and the InputError a call throws.
 
+#include <icrkit/core/error.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
 
 #include <gtest/gtest.h>
@@ -59,6 +62,19 @@ public:
 private:
   std::filesystem::path path_;
 };
+
+/// Runs `f` and returns the InputError it threw; records a failure (and
+/// returns an empty error) when it threw none.
+template <typename Function>
+InputError expectInputError(Function&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError thrown";
+  return InputError("", "", "");
+}
 
 }  // namespace icrkit::test
 
