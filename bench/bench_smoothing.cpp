@@ -92,7 +92,7 @@ void BM_SmoothPointCloud(benchmark::State& state) {
   const Fixture& f = fixture();
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, kThreads);
   icrkit::ndt::SmoothingParameters params;
-  params.radius = f.radius;
+  params.radius = icrkit::Length::metres(f.radius);
   // Arg 1: a viewpoint instead of the k-NN/MST orientation, to show what
   // the consistent orientation costs on its own.
   if (state.range(0) == 1) params.viewpoint = Eigen::Vector3d(0.0, 0.0, 10.0);
@@ -201,7 +201,7 @@ void BM_OrientNormals(benchmark::State& state) {
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, kThreads);
   PointCloud smoothed = f.cloud;
   icrkit::ndt::SmoothingParameters params;
-  params.radius = f.radius;
+  params.radius = icrkit::Length::metres(f.radius);
   params.preselection.rule = icrkit::ndt::PreselectionRule::None;
   icrkit::ndt::smoothPointCloud(smoothed, params);
   for (auto _ : state) {

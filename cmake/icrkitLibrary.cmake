@@ -1,27 +1,22 @@
-# icrkit_add_library(<name> [SOURCES ...] [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# icrkit_add_library(<name> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
 #
 # Declares the library target icrkit_<name> with the alias icrkit::<name>,
 # headers under libs/<name>/include/icrkit/<name>/, installed and exported.
 function(icrkit_add_library name)
   cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
   set(target icrkit_${name})
-  if(ARG_SOURCES)
-    add_library(${target} ${ARG_SOURCES})
-    set(scope PUBLIC)
-    target_link_libraries(${target} PRIVATE ${ARG_PRIVATE_DEPS})
-  else()
-    # A library without sources yet: headers only, so that its target and
-    # its place in the dependency graph exist from the start.
-    add_library(${target} INTERFACE)
-    set(scope INTERFACE)
+  if(NOT ARG_SOURCES)
+    message(FATAL_ERROR "icrkit_add_library(${name}): SOURCES is required")
   endif()
+  add_library(${target} ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE ${ARG_PRIVATE_DEPS})
   add_library(icrkit::${name} ALIAS ${target})
   set_target_properties(${target} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME icrkit_${name})
-  target_include_directories(${target} ${scope}
+  target_include_directories(${target} PUBLIC
     $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
-  target_compile_features(${target} ${scope} cxx_std_17)
-  target_link_libraries(${target} ${scope} ${ARG_PUBLIC_DEPS})
+  target_compile_features(${target} PUBLIC cxx_std_17)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS})
   if(ICRKIT_SANITIZE)
     # A sanitized static library needs the sanitizer runtimes wherever it is
     # linked, including in projects that consume the installed package.
@@ -31,10 +26,7 @@ function(icrkit_add_library name)
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  # A library without sources may have no headers yet either (git keeps no empty folders).
-  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
-    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  endif()
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endfunction()
 
 # icrkit_add_test(<name> SOURCES ... DEPS ...): one GoogleTest binary, registered with ctest.

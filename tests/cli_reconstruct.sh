@@ -282,7 +282,7 @@ if [ -z "$data" ] || [ ! -f "$bunny/tum/depth.txt" ] || [ ! -f "$bunny/scans.raw
 else
   bunny_flags=(--intrinsics 542,540.5,320,240 --depth-scale 1000)
   # Without a pose file every view sits at the same pose: say what is missing.
-  expect_input_error "give the camera poses (--poses FILE" "$ICRKIT" reconstruct "$bunny/tum" -o "$work/bunny_noposes" \
+  expect_input_error "give the camera poses (--poses, a TUM file) or the object.s region (--crop)" "$ICRKIT" reconstruct "$bunny/tum" -o "$work/bunny_noposes" \
     "${bunny_flags[@]}"
   "$ICRKIT" reconstruct "$bunny/tum" -o "$work/bunny_folder" "${bunny_flags[@]}" --poses "$bunny/tum/reported.txt" \
     --gt-poses "$bunny/tum/groundtruth.txt" --no-registration --no-meshes --json >"$work/bunny_folder.json" \

@@ -126,9 +126,10 @@ d = json.load(open('$work/f.json'))
 assert abs(d['radius_m'] - 2 * d['median_spacing_m']) < 1e-12, d
 " || fail "--radius 2x is not twice the median spacing"
 "$ICRKIT" smooth "$plane" -o "$work/nopre.ply" --no-preselection -q >/dev/null || fail "smooth --no-preselection failed"
-# The older spelling is still accepted.
-"$ICRKIT" smooth "$plane" -o "$work/nopre_old.ply" --no-preselect -q >/dev/null || fail "smooth --no-preselect failed"
-cmp -s "$work/nopre.ply" "$work/nopre_old.ply" || fail "--no-preselect and --no-preselection differ"
+# One spelling (issue 20): the older --no-preselect is a usage error now.
+"$ICRKIT" smooth "$plane" -o "$work/nopre_old.ply" --no-preselect -q >/dev/null 2>&1
+status=$?
+[ "$status" -eq 2 ] || fail "smooth --no-preselect exited $status, expected 2 (usage error)"
 head -c 1000 "$work/nopre.ply" | grep -aq "property uchar excluded" && fail "--no-preselection still wrote 'excluded'"
 "$ICRKIT" smooth "$plane" -o "$work/none.ply" --preselection none -q >/dev/null || fail "smooth --preselection none failed"
 head -c 1000 "$work/none.ply" | grep -aq "property uchar excluded" && fail "--preselection none still wrote 'excluded'"

@@ -2,7 +2,10 @@
 
 #include <icrkit/core/error.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace icrkit::app {
@@ -33,26 +36,11 @@ Eigen::Vector3d parsePoint(const std::string& option, const std::string& text) {
   return p;
 }
 
-Length parseLength(const std::string& option, const std::string& text) {
-  Length length;
-  length.relative = !text.empty() && (text.back() == 'x' || text.back() == 'X');
-  if (!parseNumber(length.relative ? text.substr(0, text.size() - 1) : text, length.value))
-    throw InputError(option, "",
-                     "expected metres (e.g. 0.004) or a multiple of the median point spacing (e.g. 4x), got '" +
-                         text + "'");
-  if (!(length.value > 0)) throw InputError(option, "", "must be positive, got '" + text + "'");
-  return length;
-}
-
-std::vector<Length> parseLengths(const std::string& option, const std::string& text) {
-  std::vector<Length> lengths;
-  for (const std::string& item : split(text, ',')) lengths.push_back(parseLength(option, item));
-  if (lengths.empty()) throw InputError(option, "", "expected at least one length");
-  for (const Length& l : lengths)
-    if (l.relative != lengths.front().relative)
-      throw InputError(option, "", "give all lengths in metres or all as multiples of the spacing (x), got '" +
-                                       text + "'");
-  return lengths;
+std::string lowercaseExtension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
 }
 
 }  // namespace icrkit::app

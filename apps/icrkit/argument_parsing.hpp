@@ -1,9 +1,10 @@
 #pragma once
 // Parsing of the option values several commands share: whole-token numbers,
-// comma lists, x,y,z points and lengths given in metres or as a multiple of
-// the median point spacing ("4x"). Errors are InputErrors naming the option.
+// comma lists, x,y,z points (and, from core/length.hpp, lengths in metres or
+// spacings). Errors are InputErrors naming the option.
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/length.hpp>  // parseLength, parseLengths: lengths in metres or spacings ("4x")
 
 #include <Eigen/Core>
 
@@ -31,18 +32,11 @@ auto renamingInputErrors(const std::string& library_source, const std::string& u
   }
 }
 
+/// A path's extension, lower case, with its dot (".ply"; "" without one).
+std::string lowercaseExtension(const std::string& path);
+
 /// "x,y,z" in metres.
 Eigen::Vector3d parsePoint(const std::string& option, const std::string& text);
 
-/// A length: metres ("0.004") or, with a trailing x, a multiple of the
-/// median nearest-neighbour spacing ("4x"). Must be > 0.
-struct Length {
-  double value = 0.0;
-  bool relative = false;  ///< value is a multiple of the median spacing
-};
-Length parseLength(const std::string& option, const std::string& text);
-
-/// A comma list of lengths, all in metres or all relative.
-std::vector<Length> parseLengths(const std::string& option, const std::string& text);
 
 }  // namespace icrkit::app

@@ -9,7 +9,7 @@
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/reconstruction/calibration/camera_calibration.hpp>
-#include <icrkit/reconstruction/input/image_files.hpp>
+#include <icrkit/reconstruction/calibration/calibration_images.hpp>
 #include <icrkit/reconstruction/input/rawlog_intrinsics.hpp>
 #include <icrkit/reconstruction/input/rawlog_reader.hpp>
 

@@ -2,9 +2,10 @@
 
 #include <icrkit/core/atomic_file.hpp>
 
+#include <algorithm>
 #include <filesystem>
-
 #include <iostream>
+#include <vector>
 
 namespace icrkit::app {
 namespace {
@@ -30,11 +31,24 @@ void CommandContext::mapFields(std::initializer_list<std::pair<const std::string
 
 InputError CommandContext::namingFlags(const InputError& error) const {
   const auto it = flags_.find(error.source());
-  return it == flags_.end() ? error : InputError(it->second, error.location(), error.detail());
+  const std::string& source = it == flags_.end() ? error.source() : it->second;
+  // A message may point to other fields too ("give ReconstructionParameters::
+  // pose_file"): the longest names first, so that no name's prefix wins.
+  std::vector<const std::pair<const std::string, std::string>*> by_length;
+  for (const auto& entry : flags_) by_length.push_back(&entry);
+  std::stable_sort(by_length.begin(), by_length.end(),
+                   [](const auto* a, const auto* b) { return a->first.size() > b->first.size(); });
+  std::string detail = error.detail();
+  for (const auto* entry : by_length)
+    for (std::size_t at = detail.find(entry->first); at != std::string::npos;
+         at = detail.find(entry->first, at + entry->second.size()))
+      detail.replace(at, entry->first.size(), entry->second);
+  if (source == error.source() && detail == error.detail()) return error;
+  return InputError(source, error.location(), detail);
 }
 
 void CommandContext::note(const std::string& message) const {
-  if (!options_.quiet) std::cerr << message << '\n';
+  if (!options_.quiet && !message.empty()) std::cerr << message << '\n';
 }
 
 double CommandContext::elapsedMs() const {

@@ -27,7 +27,7 @@ public:
   const GlobalOptions& options() const { return options_; }
   /// A progress callback (empty when quiet, JSON-only or not a terminal).
   ProgressCallback progress() { return progress_.callback(); }
-  /// A human-readable note on stderr unless --quiet.
+  /// A human-readable note on stderr unless --quiet (an empty one is none).
   void note(const std::string& message) const;
   /// Milliseconds since the command started.
   double elapsedMs() const;
@@ -37,7 +37,8 @@ public:
   /// (`SmoothingParameters::passes`); the command says which of its flags
   /// sets that field, so that the user reads the flag.
   void mapFields(std::initializer_list<std::pair<const std::string, std::string>> fields);
-  /// `error` with its source replaced by the flag mapped to it, if any.
+  /// `error` with its source, and every mapped field its message names,
+  /// replaced by the flag mapped to it.
   InputError namingFlags(const InputError& error) const;
 
 private:

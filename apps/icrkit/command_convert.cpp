@@ -3,6 +3,7 @@
 // (`icrkit convert FOLDER OUT.rawlog`), written by the simulator's rawlog
 // writer so that both kinds of recording are stored alike.
 
+#include "argument_parsing.hpp"
 #include "commands.hpp"
 #include "depth_folder_options.hpp"
 
@@ -14,7 +15,6 @@
 #include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 #include <icrkit/sim/rawlog_writer.hpp>
 
-#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,23 +25,17 @@ namespace {
 struct ConvertOptions {
   std::string input;
   std::string output;
-  bool ascii = false;
-  bool single_precision = false;
-  bool big_endian = false;
+  bool ascii = false, single_precision = false, big_endian = false;  // binary, double, little-endian
   std::string poses;
   DepthFolderFlags folder;
   const CLI::App* command = nullptr;
 };
 
-bool endsWith(const std::string& text, const std::string& tail) {
-  return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
-}
-
 // Folder -> rawlog. The simulator's writer takes the whole recording at
 // once, so the folder's range images are all held in memory (4 bytes a
 // pixel) while it writes.
 nlohmann::json convertFolder(const ConvertOptions& options, CommandContext& context) {
-  if (!endsWith(options.output, ".rawlog"))
+  if (lowercaseExtension(options.output) != ".rawlog")
     throw InputError(options.output, "", "a TUM RGB-D folder converts to an MRPT rawlog: expected a .rawlog output");
   reconstruction::TumFolderOptions reading;
   reading.pose_file = options.poses;
@@ -50,8 +44,7 @@ nlohmann::json convertFolder(const ConvertOptions& options, CommandContext& cont
   reading.unproject = false;
   reconstruction::TumFolderReader reader(options.input, reading);
   const reconstruction::DepthCamera& camera = reader.camera();
-  const std::string note = depthScaleNote(camera);
-  if (!note.empty()) context.note(note);
+  context.note(depthScaleNote(camera));
 
   sim::SensorModel model = sim::kinectV1();
   model.name = "TUM RGB-D folder " + options.input;
@@ -94,7 +87,7 @@ nlohmann::json convertFolder(const ConvertOptions& options, CommandContext& cont
 
 nlohmann::json convert(const ConvertOptions& options, CommandContext& context) {
   if (reconstruction::isDepthImageFolder(options.input)) return convertFolder(options, context);
-  if (endsWith(options.output, ".rawlog"))
+  if (lowercaseExtension(options.output) == ".rawlog")
     throw InputError(options.input, "", "only a TUM RGB-D folder (depth.txt, depth/*.png) converts to a rawlog");
   refuseDepthFolderOptions(*options.command, options.folder);
   if (!options.poses.empty()) throw InputError("--poses", "", "applies to a TUM RGB-D folder input");
@@ -146,7 +139,10 @@ void addConvertCommand(CLI::App& app, CommandRunner& runner) {
   command->add_flag("--float", options->single_precision, "Single-precision positions and normals (PLY/PCD)");
   command->add_flag("--big-endian", options->big_endian, "Binary big-endian PLY");
   command->callback([&runner, options] {
-    runner = [options](CommandContext& context) { context.emit(convert(*options, context)); };
+    runner = [options](CommandContext& context) {
+      context.mapFields({{"DepthCameraOptions::depth_scale", "--depth-scale"}, {"DepthCameraOptions::intrinsics", "--intrinsics"}});
+      context.emit(convert(*options, context));
+    };
   });
 }
 

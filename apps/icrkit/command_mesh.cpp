@@ -5,15 +5,16 @@
 
 #include "argument_parsing.hpp"
 #include "commands.hpp"
+#include "mesh_options.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/file_format.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
 #include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting_record.hpp>
 #include <icrkit/reconstruction/fusion/octree_fusion.hpp>
 
-#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,42 +22,10 @@
 namespace icrkit::app {
 namespace {
 
-struct MeshOptions {
-  std::string input;
-  std::string output;
-  std::string radii;
-  bool estimate_normals = false;
-  std::string normal_radius = "3x";
-  std::string viewpoint;
-  double thinning = reconstruction::BallPivotingParameters{}.thinning_factor;
-  bool no_reinsert = false;
-  bool keep_folded_holes = false;
-  std::size_t fill_holes = reconstruction::BallPivotingParameters{}.close_holes_up_to;
-  std::size_t min_component_faces = 0;
-};
-
 nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
   // Arguments are checked before a large file is read.
-  reconstruction::BallPivotingParameters params;
-  if (!options.radii.empty()) {
-    const std::vector<Length> radii = parseLengths("--radii", options.radii);
-    std::vector<double>& target = radii.front().relative ? params.radius_factors : params.radii;
-    target.clear();
-    for (const Length& r : radii) target.push_back(r.value);
-    params.gap_radius_factor = 0.0;  // the radii given are all there is
-  }
-  if (!std::isfinite(options.thinning) || options.thinning < 0.0)
-    throw InputError("--thinning", "", "expected a finite factor >= 0 (0 = off)");
-  params.thinning_factor = options.thinning;
-  params.reinsert_thinned = !options.no_reinsert;
-  params.fill_folded_holes = !options.keep_folded_holes;
-  params.close_holes_up_to = options.fill_holes;
-  params.min_component_faces = options.min_component_faces;
-  ndt::NormalEstimationParameters normal_params;
-  const Length normal_radius = parseLength("--normal-radius", options.normal_radius);
-  normal_params.radius = normal_radius.relative ? 0.0 : normal_radius.value;
-  if (normal_radius.relative) normal_params.radius_factor = normal_radius.value;
-  if (!options.viewpoint.empty()) normal_params.viewpoint = parsePoint("--viewpoint", options.viewpoint);
+  const reconstruction::BallPivotingParameters params = ballPivotingParameters(options);
+  ndt::NormalEstimationParameters normal_params = normalEstimationParameters(options);
   io::formatFromPath(options.input);
   io::formatFromPath(options.output);
   const std::string summary_path = summaryPathFor(options.output);
@@ -91,46 +60,13 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
   io::writeTriangleMesh(options.output, result.mesh);
   const double write_ms = context.elapsedMs() - write_start;
 
-  const reconstruction::BallPivotingReport& r = result.report;
-  nlohmann::json passes = nlohmann::json::array();
-  std::vector<double> radii_m;
-  for (const auto& pass : r.passes) {
-    passes.push_back(
-        {{"radius_m", pass.radius}, {"seeds", pass.seeds}, {"triangles", pass.triangles}, {"time_ms", pass.time_ms}});
-    radii_m.push_back(pass.radius);
-  }
-  nlohmann::json summary{{"input", options.input},
-                         {"output", options.output},
-                         {"summary", summary_path},
-                         {"normals", normals_source},
-                         {"points", r.points},
-                         {"median_spacing_m", r.median_spacing},
-                         {"radii_m", radii_m},
-                         {"passes", passes},
-                         {"triangles", r.triangles},
-                         {"used_points", r.used_points},
-                         {"unused_points", r.unused_points},
-                         {"duplicate_points", r.duplicate_points},
-                         {"unoriented_points", r.unoriented_points},
-                         {"layer_thickness_m", r.layer_thickness},
-                         {"thinning_cell_m", r.thinning_cell},
-                         {"thinned_points", r.thinned_points},
-                         {"reinserted_points", r.reinserted_points},
-                         {"mesh_spacing_m", r.mesh_spacing},
-                         {"removed_faces", r.removed_faces},
-                         {"boundary_edges", r.boundary_edges},
-                         {"closed_holes", r.closed_holes},
-                         {"folded_holes", r.folded_holes},
-                         {"boundary_loops", r.boundary_loops},
-                         {"non_manifold_edges", r.non_manifold_edges},
-                         {"components", r.components},
-                         {"euler_characteristic", r.euler_characteristic},
-                         {"time_ms",
-                          {{"read", read_ms},
-                           {"normals", normals_ms},
-                           {"mesh", mesh_ms},
-                           {"write", write_ms},
-                           {"total", context.elapsedMs()}}}};
+  nlohmann::json summary = nlohmann::json::parse(reconstruction::ballPivotingRecordJson(result.report));
+  summary["input"] = options.input;
+  summary["output"] = options.output;
+  summary["summary"] = summary_path;
+  summary["normals"] = normals_source;
+  summary["time_ms"] = {
+      {"read", read_ms}, {"normals", normals_ms}, {"mesh", mesh_ms}, {"write", write_ms}, {"total", context.elapsedMs()}};
   writeSummaryFile(summary_path, summary);
   return summary;
 }
@@ -183,8 +119,12 @@ void addMeshCommand(CLI::App& app, CommandRunner& runner) {
                       "Sensor position x,y,z (metres) that estimated normals face (default: outwards, made "
                       "consistent over neighbours)");
   command->callback([&runner, options] {
-    runner = [options](CommandContext& context) { context.mapFields({{"BallPivotingParameters::radii", "--radii"}, {"BallPivotingParameters::radius_factors", "--radii"}, {"NormalEstimationParameters::radius", "--normal-radius"}, {"NormalEstimationParameters::radius_factor", "--normal-radius"}});
-    context.emit(mesh(*options, context)); };
+    runner = [options](CommandContext& context) {
+      context.mapFields({{"BallPivotingParameters::radii", "--radii"},
+                         {"BallPivotingParameters::thinning_factor", "--thinning"},
+                         {"NormalEstimationParameters::radius", "--normal-radius"}});
+      context.emit(mesh(*options, context));
+    };
   });
 }
 

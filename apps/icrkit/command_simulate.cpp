@@ -9,8 +9,6 @@
 #include <icrkit/sim/cad_objects.hpp>
 #include <icrkit/sim/dataset.hpp>
 
-#include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -38,22 +36,6 @@ constexpr const char* kPoseErrorHelp =
     "mobile (mobile manipulator: 3 mm / 0.5 deg per axis, independent per view), none, or per-view sigmas T,R "
     "with units, e.g. 5mm,1deg (docs/rawlog.md)";
 
-nlohmann::json summaryJson(const sim::DatasetSpec& spec, const sim::DatasetSummary& s) {
-  return {{"name", sim::datasetName(spec)},
-          {"directory", s.directory},
-          {"object", spec.mesh_path.empty() ? spec.object : spec.mesh_path},
-          {"sensor", sim::sensorTypeName(spec.sensor)},
-          {"setup", sim::setupName(spec.acquisition.setup)},
-          {"views", s.views},
-          {"seed", spec.acquisition.seed},
-          {"pose_error", spec.acquisition.errors.name},
-          {"object_vertices", s.object_vertices},
-          {"valid_pixel_fraction", s.valid_pixel_fraction},
-          {"object_pixel_fraction", s.object_pixel_fraction},
-          {"files", {"scans.rawlog", "ground_truth.txt", "reported_poses.txt", "object.ply", "scene.ply", "manifest.json"}},
-          {"time_ms", s.time_ms}};
-}
-
 nlohmann::json simulate(const SimulateOptions& o, CommandContext& context) {
   sim::DatasetSpec spec;
   spec.sensor = sim::parseSensorType(o.sensor);
@@ -66,13 +48,12 @@ nlohmann::json simulate(const SimulateOptions& o, CommandContext& context) {
   } else {
     spec.mesh_path = o.mesh;
   }
-  if (o.views <= 0) throw InputError("--views", "", "expected at least one view, got " + std::to_string(o.views));
   spec.acquisition.views = o.views;
   spec.acquisition.seed = o.seed;
-  spec.acquisition.distance = o.distance;
+  if (o.distance != 0.0) spec.acquisition.distance = o.distance;  // 0: the setup's default
   spec.acquisition.errors = o.perfect_poses ? sim::perfectPoses() : sim::parsePoseErrorModel(o.pose_error);
-  const sim::DatasetSummary s = sim::simulateDataset(spec, o.output, context.progress());
-  return summaryJson(spec, s);
+  const sim::SimulationReport s = sim::simulateDataset(spec, o.output, context.progress());
+  return nlohmann::json::parse(sim::datasetRecordJson(spec, s));
 }
 
 struct DatasetsOptions {
@@ -81,51 +62,17 @@ struct DatasetsOptions {
   std::string pose_error = "arm";
 };
 
-// The folder of a dataset under another pose-error model than the paper's
-// arm carries the model in its name (NAME_mobile, NAME_5mm_1deg), so the
-// classes coexist in one output folder and the arm's keep their names.
-std::string datasetFolder(const sim::DatasetSpec& spec, const std::string& pose_error) {
-  std::string tag = pose_error;
-  std::transform(tag.begin(), tag.end(), tag.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (tag == "arm") return sim::datasetName(spec);
-  std::replace(tag.begin(), tag.end(), ',', '_');
-  return sim::datasetName(spec) + "_" + tag;
-}
-
-nlohmann::json listDatasets() {
-  nlohmann::json list = nlohmann::json::array();
-  for (const sim::DatasetSpec& s : sim::paperDatasets())
-    list.push_back({{"name", sim::datasetName(s)},
-                    {"object", s.object},
-                    {"sensor", sim::sensorTypeName(s.sensor)},
-                    {"setup", sim::setupName(s.acquisition.setup)},
-                    {"views", s.acquisition.views},
-                    {"seed", s.acquisition.seed}});
-  return {{"datasets", list}};
-}
-
 nlohmann::json makeDatasets(const DatasetsOptions& o, CommandContext& context) {
   const sim::PoseErrorModel errors = sim::parsePoseErrorModel(o.pose_error);
-  std::vector<sim::DatasetSpec> specs = sim::paperDatasets();
-  if (!o.only.empty()) {
-    std::vector<sim::DatasetSpec> chosen;
-    for (const std::string& name : split(o.only, ',')) {
-      bool found = false;
-      for (const sim::DatasetSpec& s : specs)
-        if (sim::datasetName(s) == name) {
-          chosen.push_back(s);
-          found = true;
-        }
-      if (!found) throw InputError("--only", "", "unknown dataset '" + name + "' (see icrkit datasets list)");
-    }
-    specs = chosen;
-  }
+  std::vector<std::string> names;
+  if (!o.only.empty()) names = split(o.only, ',');
+  std::vector<sim::DatasetSpec> specs = sim::paperDatasets(names);
   nlohmann::json made = nlohmann::json::array();
   for (sim::DatasetSpec& spec : specs) {
     spec.acquisition.errors = errors;
-    const std::string directory = (std::filesystem::path(o.output) / datasetFolder(spec, o.pose_error)).string();
+    const std::string directory = (std::filesystem::path(o.output) / sim::datasetFolderName(spec, o.pose_error)).string();
     context.note("simulating " + sim::datasetName(spec) + " -> " + directory);
-    made.push_back(summaryJson(spec, sim::simulateDataset(spec, directory, context.progress())));
+    made.push_back(nlohmann::json::parse(sim::datasetRecordJson(spec, sim::simulateDataset(spec, directory, context.progress()))));
   }
   return {{"output", o.output},
           {"pose_error", errors.name},
@@ -156,15 +103,26 @@ void addSimulateCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--pose-error", o->pose_error, kPoseErrorHelp)->capture_default_str()->excludes(perfect);
   command->add_option("-o,--output", o->output, "Output folder (replaced only if it holds an earlier simulation)")
       ->required();
-  command->callback([&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"AcquisitionParameters::views", "--views"}, {"AcquisitionParameters::distance", "--distance"}, {"pose error model", "--pose-error"}, {"sensor name", "--sensor"}, {"setup name", "--setup"}, {"object name", "--object"}});
-    context.emit(simulate(*o, context)); }; });
+  command->callback([&runner, o] {
+    runner = [o](CommandContext& context) {
+      context.mapFields({{"AcquisitionParameters::views", "--views"},
+                         {"AcquisitionParameters::distance", "--distance"},
+                         {"pose error model", "--pose-error"},
+                         {"sensor name", "--sensor"},
+                         {"setup name", "--setup"},
+                         {"object name", "--object"}});
+      context.emit(simulate(*o, context));
+    };
+  });
 }
 
 void addDatasetsCommand(CLI::App& app, CommandRunner& runner) {
   auto* command = app.add_subcommand("datasets", "The paper's nine simulated datasets (datasets/paper_datasets.json)");
   command->require_subcommand(1);
   auto* list = command->add_subcommand("list", "The nine object/sensor pairs and their settings");
-  list->callback([&runner] { runner = [](CommandContext& context) { context.emit(listDatasets()); }; });
+  list->callback([&runner] {
+    runner = [](CommandContext& context) { context.emit(nlohmann::json::parse(sim::paperDatasetsJson())); };
+  });
   auto* make = command->add_subcommand(
       "make", "Simulate all of them (or --only some) into OUTPUT/NAME (OUTPUT/NAME_MODEL under another --pose-error "
               "than arm, e.g. cup_kinect_B_mobile, cup_kinect_B_5mm_1deg)");
@@ -172,8 +130,12 @@ void addDatasetsCommand(CLI::App& app, CommandRunner& runner) {
   make->add_option("-o,--output", o->output, "Output folder (git-ignored by default)")->capture_default_str();
   make->add_option("--only", o->only, "Comma-separated dataset names (see `icrkit datasets list`)");
   make->add_option("--pose-error", o->pose_error, kPoseErrorHelp)->capture_default_str();
-  make->callback([&runner, o] { runner = [o](CommandContext& context) { context.mapFields({{"pose error model", "--pose-error"}});
-    context.emit(makeDatasets(*o, context)); }; });
+  make->callback([&runner, o] {
+    runner = [o](CommandContext& context) {
+      context.mapFields({{"pose error model", "--pose-error"}, {"dataset names", "--only"}});
+      context.emit(makeDatasets(*o, context));
+    };
+  });
 }
 
 }  // namespace icrkit::app

@@ -15,7 +15,6 @@
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,38 +27,25 @@ struct SmoothOptions {
   std::string radius = "4x";
   int passes = 1;
   std::string preselection = "default";
-  bool no_preselect = false;  ///< --no-preselection: the same as --preselection none
+  bool no_preselection = false;  ///< --no-preselection: the same as --preselection none
   std::optional<double> cardinality_threshold;
   std::optional<double> flatness_threshold;
   std::string viewpoint;
   double window_normal_angle = M_PI;
 };
 
-void checkThreshold(const char* name, const std::optional<double>& value) {
-  if (value && !(std::isfinite(*value) && *value >= 0)) {
-    std::ostringstream text;
-    text << "expected a finite threshold >= 0, got " << *value;
-    throw InputError(name, "", text.str());
-  }
-}
-
 ndt::SmoothingParameters parameters(const SmoothOptions& options) {
   ndt::SmoothingParameters params;
-  const Length radius = parseLength("--radius", options.radius);
-  params.radius = radius.relative ? 0.0 : radius.value;
-  if (radius.relative) params.radius_factor = radius.value;
-  // Checked here as well as in the library so that a bad argument fails
-  // before a large file is read.
-  if (options.passes < 1) throw InputError("--passes", "", "at least one pass, got " + std::to_string(options.passes));
+  params.radius = parseLength("--radius", options.radius);
   params.passes = options.passes;
   params.preselection.rule =
-      options.no_preselect ? ndt::PreselectionRule::None : ndt::parsePreselectionRule(options.preselection);
-  checkThreshold("--cardinality-threshold", options.cardinality_threshold);
-  checkThreshold("--flatness-threshold", options.flatness_threshold);
+      options.no_preselection ? ndt::PreselectionRule::None : ndt::parsePreselectionRule(options.preselection, "--preselection");
   params.preselection.cardinality_threshold = options.cardinality_threshold;
   params.preselection.flatness_threshold = options.flatness_threshold;
   if (!options.viewpoint.empty()) params.viewpoint = parsePoint("--viewpoint", options.viewpoint);
   params.max_normal_angle = checkedWindowNormalAngle(options.window_normal_angle);
+  // Checked before a large file is read.
+  params.validate();
   return params;
 }
 
@@ -76,7 +62,7 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
   PointCloud cloud = io::readPointCloud(options.input);
   const double read_ms = context.elapsedMs() - read_start;
 
-  const ndt::SmoothingSummary s = renamingInputErrors(
+  const ndt::SmoothingReport s = renamingInputErrors(
       "point cloud", options.input, [&] { return ndt::smoothPointCloud(cloud, params, context.progress()); });
 
   const double write_start = context.elapsedMs();
@@ -93,7 +79,7 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
       {"summary", summary_path},
       {"points", s.points},
       {"radius_m", s.radius_m},
-      {"radius_factor", params.radius > 0 ? nlohmann::json(nullptr) : nlohmann::json(params.radius_factor)},
+      {"radius_factor", params.radius.relative ? nlohmann::json(params.radius.value) : nlohmann::json(nullptr)},
       // null when --radius was given in metres: the spacing is then not measured
       {"median_spacing_m", s.median_spacing_m > 0 ? nlohmann::json(s.median_spacing_m) : nlohmann::json(nullptr)},
       {"passes", s.passes},
@@ -136,9 +122,7 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--passes", options->passes, "Smoothing passes k, each from the previous pass's output")
       ->capture_default_str();
   addPreselectionOption(*command, options->preselection, "marking points as excluded");
-  command->add_flag("--no-preselection", options->no_preselect, "Same as --preselection none: no 'excluded' flags");
-  // The older spelling, still accepted, not shown: every command says --no-preselection now.
-  command->add_flag("--no-preselect", options->no_preselect)->group("");
+  command->add_flag("--no-preselection", options->no_preselection, "Same as --preselection none: no 'excluded' flags");
   command->add_option("--cardinality-threshold", options->cardinality_threshold,
                       "Exclude points whose window holds fewer points (default: the rule's own threshold)");
   command->add_option("--flatness-threshold", options->flatness_threshold,
@@ -147,9 +131,15 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
                       "Sensor position x,y,z (metres): normals point towards it (default: outwards from the "
                       "centroid, made consistent over neighbours)");
   addWindowNormalAngleOption(*command, options->window_normal_angle);
-  command->callback(
-      [&runner, options] { runner = [options](CommandContext& context) { context.mapFields({{"SmoothingParameters::radius", "--radius"}, {"SmoothingParameters::radius_factor", "--radius"}, {"SmoothingParameters::passes", "--passes"}});
-    context.emit(smooth(*options, context)); }; });
+  command->callback([&runner, options] {
+    runner = [options](CommandContext& context) {
+      context.mapFields({{"SmoothingParameters::radius", "--radius"},
+                         {"SmoothingParameters::passes", "--passes"},
+                         {"PreselectionParameters::cardinality_threshold", "--cardinality-threshold"},
+                         {"PreselectionParameters::flatness_threshold", "--flatness-threshold"}});
+      context.emit(smooth(*options, context));
+    };
+  });
 }
 
 }  // namespace icrkit::app

@@ -64,13 +64,14 @@ inline CameraIntrinsics parseIntrinsics(const std::string& text) {
   return k;
 }
 
-/// The library options; InputErrors name the flag.
+/// The library options; InputErrors name the flag (the library names
+/// DepthCameraOptions::depth_scale, which the commands map to --depth-scale).
 inline reconstruction::DepthCameraOptions depthCameraOptions(const DepthFolderFlags& flags) {
   reconstruction::DepthCameraOptions options;
   if (!flags.intrinsics.empty()) options.intrinsics = parseIntrinsics(flags.intrinsics);
-  if (flags.depth_scale != 0.0 && (!(flags.depth_scale > 0) || !std::isfinite(flags.depth_scale)))
-    throw InputError("--depth-scale", "", "expected the depth counts per metre (> 0; 1000 for millimetres)");
-  options.depth_scale = flags.depth_scale;
+  // 0: unset (the camera file's, else TUM's); the library checks the value
+  // (DepthCameraOptions::depth_scale, mapped to --depth-scale by the commands).
+  if (flags.depth_scale != 0.0) options.depth_scale = flags.depth_scale;
   options.camera_file = flags.camera;
   if (!(flags.max_time_difference >= 0) || !std::isfinite(flags.max_time_difference))
     throw InputError("--max-time-difference", "", "expected seconds >= 0");
@@ -89,21 +90,13 @@ inline void refuseDepthFolderOptions(const CLI::App& command, const DepthFolderF
                    "rangeUnits) and matches poses by order");
 }
 
+/// The library's record of the camera (reconstruction::depthCameraRecordJson)
+/// with the command line's names for values the options set.
 inline nlohmann::json depthCameraJson(const reconstruction::DepthCamera& camera) {
-  const CameraIntrinsics& k = camera.intrinsics;
-  return {{"width", k.width},
-          {"height", k.height},
-          {"fx", k.fx},
-          {"fy", k.fy},
-          {"cx", k.cx},
-          {"cy", k.cy},
-          {"distortion_k1_k2_p1_p2_k3", k.distortion},
-          {"intrinsics_source", camera.intrinsics_from_options ? "--intrinsics" : camera.camera_file},
-          {"depth_scale", camera.depth_scale},
-          {"depth_scale_source", camera.depth_scale_source == "options"       ? "--depth-scale"
-                                 : camera.depth_scale_source == "camera file" ? camera.camera_file
-                                                                              : std::string("default (TUM)")},
-          {"max_range_m", camera.max_range}};
+  nlohmann::json record = nlohmann::json::parse(reconstruction::depthCameraRecordJson(camera));
+  if (camera.intrinsics_from_options) record["intrinsics_source"] = "--intrinsics";
+  if (camera.depth_scale_source == "options") record["depth_scale_source"] = "--depth-scale";
+  return record;
 }
 
 /// A note when the depth scale is TUM's default: a folder in millimetres

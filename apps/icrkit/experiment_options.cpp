@@ -5,14 +5,13 @@
 #include "preselection_options.hpp"
 
 #include <icrkit/core/error.hpp>
-#include <icrkit/eval/grasp_regions.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/eval/rigid_alignment.hpp>
-#include <icrkit/report/grasp_render.hpp>
-
-#include <filesystem>
-#include <tuple>
+#include <icrkit/eval/study.hpp>
 
 #include <cmath>
+#include <filesystem>
 
 namespace icrkit::app {
 
@@ -72,6 +71,18 @@ void ExperimentOptions::addTo(CLI::App& command, bool with_preselection) {
       "'patch' in conservative.{json,md}. Costs up to 5 patch hulls per grasp (seconds each on dense meshes)");
 }
 
+void ExperimentOptions::mapFieldsTo(CommandContext& context) {
+  context.mapFields({{"ExperimentConfig::finger_counts", "--fingers"},
+                     {"ExperimentConfig::grasps_per_set", "--grasps"},
+                     {"ExperimentConfig::alpha", "--alpha"},
+                     {"ExperimentConfig::conservative_sigmas", "--conservative"},
+                     {"MappingParameters::max_line_distance", "--max-line-distance"},
+                     {"MappingParameters::neighbourhood_radius", "--neighbourhood-radius"},
+                     {"PatchParameters::radius_m", "--patch-radius"},
+                     {"contact model", "--mu/--edges"},
+                     {"Shard", "--shard"}});
+}
+
 eval::Shard ExperimentOptions::parsedShard() const {
   const auto parts = split(shard, '/');
   double index = 0, count = 0;
@@ -94,7 +105,6 @@ eval::ExperimentConfig ExperimentOptions::config() const {
   config.seed = seed;
   config.friction = mu;
   config.cone_edges = edges;
-  if (!(alpha > 0.0 && alpha <= 1.0)) throw InputError("--alpha", "", "expected 0 < alpha <= 1");
   config.alpha = alpha;
   if (mode == "bfs")
     config.growth = icr::GrowthMode::BreadthFirst;
@@ -108,48 +118,39 @@ eval::ExperimentConfig ExperimentOptions::config() const {
     config.metric = eval::DistanceMetric::Euclidean;
   else
     throw InputError("--metric", "", "expected geodesic or euclidean, got '" + metric + "'");
-  if (!(max_line_distance > 0.0) || !std::isfinite(max_line_distance))
-    throw InputError("--max-line-distance", "", "expected metres > 0");
   config.mapping.max_line_distance = max_line_distance;
-  if (!(neighbourhood_radius >= 0.0) || !std::isfinite(neighbourhood_radius))
-    throw InputError("--neighbourhood-radius", "", "expected metres >= 0 (0: automatic)");
-  config.mapping.neighbourhood_radius = neighbourhood_radius;
+  if (neighbourhood_radius != 0.0) config.mapping.neighbourhood_radius = neighbourhood_radius;  // 0: automatic
   config.preselection = preselectionName() != "none";
   if (conservative) {
     const std::vector<std::string> items = conservative->empty() ? std::vector<std::string>{"1"} : split(*conservative, ',');
     for (const std::string& text : items) {
       double k = 0;
-      if (!parseNumber(text, k) || !(k >= 0) || !std::isfinite(k))
+      if (!parseNumber(text, k))
         throw InputError("--conservative", "", "expected K >= 0 or a comma-separated list of them, got '" + *conservative + "'");
       config.conservative_sigmas.push_back(k);
     }
   }
   if (patch_radius) {
-    if (!(*patch_radius > 0) || !std::isfinite(*patch_radius))
-      throw InputError("--patch-radius", "", "expected a radius > 0 in metres, got " + std::to_string(*patch_radius));
     config.patch = icr::PatchParameters{};
     config.patch->radius_m = *patch_radius;
   }
   if (align != "none" && align != "icp") throw InputError("--align", "", "expected none or icp, got '" + align + "'");
-  try {
-    config.validate();
-  } catch (const InputError& error) {
-    throw InputError("--mu/--edges/--fingers", "", error.detail());
-  }
+  // The library names a bad field; the commands map it to the flag (mapFieldsTo).
+  config.validate();
   return config;
 }
 
 std::string ExperimentOptions::preselectionName() const {
   if (no_preselection) return "none";
   if (preselection == "file") return "file";
-  return ndt::preselectionRuleName(ndt::parsePreselectionRule(preselection));
+  return ndt::preselectionRuleName(ndt::parsePreselectionRule(preselection, "--preselection"));
 }
 
 nlohmann::json ExperimentOptions::applyPreselection(TriangleMesh& filtered, const std::string& path) const {
   const std::string name = preselectionName();
   if (name == "file" || name == "none") return nullptr;
   ndt::PreselectionParameters params;
-  params.rule = ndt::parsePreselectionRule(name);
+  params.rule = ndt::parsePreselectionRule(name, "--preselection");
   return preselectionJson(ndt::applyPreselection(filtered.vertices.attributes, filtered.vertexCount(), params, path));
 }
 
@@ -186,36 +187,26 @@ nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh
           {"rms_after_m", a.rms_after_m}};
 }
 
-std::vector<std::string> writeGraspRenders(const std::string& directory, const ExperimentOptions& options,
-                                           const eval::DatasetMeshes& meshes, const eval::ExperimentConfig& config,
-                                           const std::vector<eval::GraspRecord>& records) {
-  std::vector<std::string> files;
-  int left = options.renders;
-  for (const eval::GraspRecord& record : records) {
-    if (left <= 0) break;
-    if (!record.evaluated || record.dataset != meshes.name) continue;
-    --left;
-    const eval::GraspRegions regions = eval::regrowRegions(meshes, config, record);
-    const std::filesystem::path dir = std::filesystem::path(directory) / "renders";
-    std::filesystem::create_directories(dir);
-    const std::string stem =
-        record.dataset + "_" + std::to_string(record.fingers) + "fingers_grasp" + std::to_string(record.index);
-    for (const auto& [label, scan, scan_regions, contacts] :
-         {std::tuple{std::string("filtered"), meshes.filtered, &regions.filtered, &record.filtered.contacts},
-          std::tuple{std::string("raw"), meshes.raw, &regions.raw, &record.raw.contacts}}) {
-      const report::RgbImage image = report::renderGraspComparison(*meshes.cad, regions.cad, record.cad_contacts, *scan,
-                                                               *scan_regions, *contacts, label);
-      files.push_back((dir / (stem + "_" + label + ".png")).string());
-      report::writePng(files.back(), image);
-    }
+TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandContext& context) {
+  TriangleMesh mesh = io::readTriangleMesh(path);
+  if (mesh.faces.empty()) throw InputError(path, "", "has no faces; the evaluation needs a triangle mesh");
+  if (!mesh.vertices.hasNormals()) {
+    if (!compute)
+      throw InputError(path, "", "has no vertex normals (PLY nx/ny/nz or OBJ vn); pass --compute-normals to derive them");
+    computeVertexNormals(mesh);
+    context.note("icrkit: " + path + ": vertex normals computed from the faces");
   }
-  return files;
+  return mesh;
+}
+
+void requireOutputFolder(const std::string& output) {
+  std::error_code error;
+  if (std::filesystem::exists(output, error) && !std::filesystem::is_directory(output, error))
+    throw InputError(output, "", "exists and is not a directory");
 }
 
 std::string frameWarning(const std::vector<eval::GraspRecord>& records, const std::string& dataset) {
-  std::size_t unreachable = 0;
-  for (const eval::GraspRecord& r : records)
-    if (r.raw.contacts.empty() && r.filtered.contacts.empty()) ++unreachable;
+  const std::size_t unreachable = eval::graspsWithoutSurface(records);
   // Unscanned undersides leave a quarter or so of the grasps without surface;
   // far more means the meshes do not lie on each other.
   if (records.empty() || 2 * unreachable <= records.size()) return {};

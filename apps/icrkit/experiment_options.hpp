@@ -3,6 +3,8 @@
 // parameters (Section IV of the paper) and the shard, reported identically
 // in both commands' run.json.
 
+#include "command_context.hpp"
+
 #include <icrkit/core/triangle_mesh.hpp>
 #include <icrkit/eval/experiment.hpp>
 
@@ -44,8 +46,11 @@ struct ExperimentOptions {
 
   /// `with_preselection` false: the command has its own --preselection.
   void addTo(CLI::App& command, bool with_preselection = true);
-  /// Validated (InputError naming the option).
+  /// Validated: InputError naming the option, or the library's field
+  /// (ExperimentConfig::alpha, ...), which mapFieldsTo maps to the option.
   eval::ExperimentConfig config() const;
+  /// Maps the experiment's fields to these options in the command's errors.
+  static void mapFieldsTo(CommandContext& context);
   eval::Shard parsedShard() const;
   /// The rule's name as run.json records it ("file", "default", ...).
   std::string preselectionName() const;
@@ -55,11 +60,13 @@ struct ExperimentOptions {
   nlohmann::json applyPreselection(TriangleMesh& filtered, const std::string& path) const;
 };
 
-/// Fig. 6 renders (CAD vs filtered, CAD vs raw) of the first `options.renders`
-/// evaluated records of `meshes`, into DIR/renders/; returns the files.
-std::vector<std::string> writeGraspRenders(const std::string& directory, const ExperimentOptions& options,
-                                           const eval::DatasetMeshes& meshes, const eval::ExperimentConfig& config,
-                                           const std::vector<eval::GraspRecord>& records);
+/// A mesh for the experiment: faces required; vertex normals from the
+/// file, or with `compute` derived from the faces (noted), else an
+/// InputError naming the file and --compute-normals.
+TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandContext& context);
+
+/// InputError when `output` exists and is not a directory.
+void requireOutputFolder(const std::string& output);
 
 /// A warning when most grasps of `records` could not be moved onto a
 /// reconstructed mesh at all (meshes in different frames or units); empty

@@ -17,7 +17,7 @@ CLI::Option* addPreselectionOption(CLI::App& command, std::string& name, const s
 
 /// {"rule", "thresholds": {...}, "excluded": {...}, "statistics": {...}};
 /// `given_*`: the threshold came from the command line.
-nlohmann::json preselectionJson(const ndt::PreselectionSummary& summary, bool given_cardinality = false,
+nlohmann::json preselectionJson(const ndt::PreselectionReport& summary, bool given_cardinality = false,
                                 bool given_flatness = false);
 
 }  // namespace icrkit::app

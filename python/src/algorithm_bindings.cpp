@@ -153,8 +153,7 @@ void bindAlgorithms(py::module_& m) {
          double window_normal_angle) {
         PointCloud cloud = asCloud(points, normals);
         ndt::SmoothingParameters params;
-        params.radius = radius.value_or(0.0);
-        params.radius_factor = radius_factor;
+        params.radius = radius ? Length::metres(*radius) : Length::spacings(radius_factor);
         params.passes = passes;
         params.max_normal_angle = window_normal_angle;
         params.preselection.rule = ndt::parsePreselectionRule(preselection, "preselection");
@@ -184,7 +183,10 @@ void bindAlgorithms(py::module_& m) {
         PointCloud cloud = asCloud(points, normals);
         if (!cloud.hasNormals()) throw py::value_error("normals: ball pivoting needs one unit normal per point");
         reconstruction::BallPivotingParameters params;
-        if (radii) params.radii = *radii;
+        if (radii) {
+          params.radii.clear();
+          for (double r : *radii) params.radii.push_back(Length::metres(r));
+        }
         py::gil_scoped_release release;
         return reconstruction::ballPivoting(cloud, params).mesh;
       },

@@ -45,4 +45,8 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
   }
 }
 
+void writeFileAtomically(const std::string& path, const std::string& contents) {
+  writeFileAtomically(path, [&](std::ostream& out) { out << contents; });
+}
+
 }  // namespace icrkit

@@ -2,7 +2,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 
@@ -22,6 +22,14 @@ TEST(AtomicFile, WritesAndReplaces) {
   writeFileAtomically(dir.file("a.txt"), [](std::ostream& out) { out << "first"; });
   writeFileAtomically(dir.file("a.txt"), [](std::ostream& out) { out << "second"; });
   EXPECT_EQ(io::readFileBytes(dir.file("a.txt")), "second");
+  EXPECT_EQ(entries(dir.path()), 1u);
+}
+
+TEST(AtomicFile, WholeContentOverload) {
+  test::ScratchDir dir;
+  const std::string bytes("one\ntwo\r\n\0three", 16);
+  writeFileAtomically(dir.file("b.txt"), bytes);
+  EXPECT_EQ(io::readFileBytes(dir.file("b.txt")), bytes) << "binary: no newline translation, NUL kept";
   EXPECT_EQ(entries(dir.path()), 1u);
 }
 

@@ -3,7 +3,7 @@
 #include <icrkit/core/ray_caster.hpp>
 #include <icrkit/core/triangle_distance.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 #include <icrkit/core/mesh_distance.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 #include <icrkit/core/mesh_sampling.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 

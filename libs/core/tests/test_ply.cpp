@@ -1,7 +1,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/ply.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 

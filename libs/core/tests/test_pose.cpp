@@ -2,7 +2,7 @@
 #include <icrkit/core/pose.hpp>
 #include <icrkit/core/pose_mrpt.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 

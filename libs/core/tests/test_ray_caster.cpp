@@ -1,7 +1,7 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/ray_caster.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 

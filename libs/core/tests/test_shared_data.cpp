@@ -2,7 +2,7 @@
 
 #include <icrkit/core/io/geometry_io.hpp>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 

@@ -25,8 +25,6 @@
 namespace icrkit::eval {
 namespace {
 
-constexpr const char* kSource = "experiment";
-
 void requireNormals(const TriangleMesh* mesh, const std::string& what) {
   if (!mesh) throw InputError(what, "", "no mesh given");
   if (mesh->faces.empty()) throw InputError(what, "", "the mesh has no faces");
@@ -61,18 +59,20 @@ void Shard::validate() const {
 }
 
 void ExperimentConfig::validate() const {
-  if (finger_counts.empty()) throw InputError(kSource, "finger counts", "expected at least one finger count");
+  if (finger_counts.empty())
+    throw InputError("ExperimentConfig::finger_counts", "", "expected at least one finger count");
   for (const std::size_t f : finger_counts)
     if (f < 2 || f > 20)
-      throw InputError(kSource, "finger counts", "expected 2..20 fingers, got " + std::to_string(f));
+      throw InputError("ExperimentConfig::finger_counts", "", "expected 2..20 fingers, got " + std::to_string(f));
   if (std::set<std::size_t>(finger_counts.begin(), finger_counts.end()).size() != finger_counts.size())
-    throw InputError(kSource, "finger counts", "a finger count is repeated");
-  if (grasps_per_set < 1) throw InputError(kSource, "grasps per set", "expected at least 1");
+    throw InputError("ExperimentConfig::finger_counts", "", "a finger count is repeated");
+  if (grasps_per_set < 1) throw InputError("ExperimentConfig::grasps_per_set", "", "expected at least 1");
   if (!(alpha > 0.0 && alpha <= 1.0))
-    throw InputError(kSource, "alpha", "expected 0 < alpha <= 1, got " + std::to_string(alpha));
+    throw InputError("ExperimentConfig::alpha", "", "expected 0 < alpha <= 1, got " + std::to_string(alpha));
   for (const double k : conservative_sigmas)
     if (!(k >= 0) || !std::isfinite(k))
-      throw InputError(kSource, "conservative K", "expected K >= 0, got " + std::to_string(k));
+      throw InputError("ExperimentConfig::conservative_sigmas", "", "expected K >= 0, got " + std::to_string(k));
+  mapping.validate();
   if (patch) patch->validate();
   contactModel().validate();
 }

@@ -19,11 +19,6 @@ namespace {
 
 constexpr const char* kSource = "normal-line mapping";
 
-double checkedLength(double value, const char* name) {
-  if (!std::isfinite(value) || value < 0.0)
-    throw InputError(kSource, name, "expected a finite length >= 0 (metres), got " + std::to_string(value));
-  return value;
-}
 
 // Lexicographic (distance to the line, distance to the anchor, index):
 // a total order, so the kd-tree's traversal order never shows in the answer.
@@ -54,19 +49,27 @@ double medianEdgeLength(const TriangleMesh& mesh) {
   return *middle;
 }
 
+void MappingParameters::validate() const {
+  if (!(std::isfinite(max_line_distance) && max_line_distance > 0.0))
+    throw InputError("MappingParameters::max_line_distance", "",
+                     "expected a finite length > 0 (metres), got " + std::to_string(max_line_distance));
+  if (neighbourhood_radius && !(std::isfinite(*neighbourhood_radius) && *neighbourhood_radius > 0.0))
+    throw InputError("MappingParameters::neighbourhood_radius", "",
+                     "expected a finite length > 0 (metres) or unset (automatic), got " +
+                         std::to_string(*neighbourhood_radius));
+}
+
 MappingTarget::MappingTarget(const TriangleMesh& mesh, const MappingParameters& params)
     : mesh_(&mesh),
       caster_(mesh),
       tree_(mesh.vertices.positions),
-      radius_(checkedLength(params.neighbourhood_radius, "neighbourhood radius")),
-      max_line_distance_(checkedLength(params.max_line_distance, "maximum line distance")) {
+      radius_((params.validate(), params.neighbourhood_radius.value_or(0.0))),
+      max_line_distance_(params.max_line_distance) {
   if (mesh.faces.empty()) throw InputError(kSource, "target mesh", "the target mesh has no faces");
-  if (!(max_line_distance_ > 0.0))
-    throw InputError(kSource, "maximum line distance", "expected a length > 0 (metres)");
   // Vertices that no face uses (points ball pivoting left unmeshed) are not
   // part of the surface: the mappings never choose them.
   in_surface_ = referencedVertices(mesh);
-  if (radius_ == 0.0) radius_ = 2.0 * medianEdgeLength(mesh);
+  if (!params.neighbourhood_radius) radius_ = 2.0 * medianEdgeLength(mesh);
   if (!(radius_ > 0.0))
     throw InputError(kSource, "target mesh", "its median edge length is 0, so no neighbourhood radius exists; give one");
 }

@@ -2,13 +2,12 @@
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/number_text.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
-#include <sstream>
 #include <utility>
 
 namespace icrkit::eval {
@@ -17,14 +16,6 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 constexpr int kThresholdSteps = 10;  // t = k / 10 for k = 10 .. 0
-
-// Locale-independent, so the SVG bytes never depend on LC_NUMERIC.
-std::string formatFixed(double value, int decimals) {
-  char buffer[512];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, decimals);
-  if (result.ec != std::errc()) return "0";
-  return std::string(buffer, result.ptr);
-}
 
 void addMesh(QualityHistogramSeries& series, const MeshOutcome& mesh, const std::vector<double>& thresholds) {
   for (const auto& region : mesh.regions) {
@@ -54,10 +45,6 @@ Json seriesJson(const QualityHistogramSeries& series) {
   j["counts"] = series.counts;
   j["percent"] = series.percent;
   return j;
-}
-
-void writeText(const std::string& path, const std::string& text) {
-  writeFileAtomically(path, [&](std::ostream& out) { out << text; });
 }
 
 }  // namespace
@@ -96,7 +83,7 @@ std::string qualityHistogramJson(const QualityHistogram& histogram) {
 }
 
 void writeQualityHistogramJson(const std::string& path, const QualityHistogram& histogram) {
-  writeText(path, qualityHistogramJson(histogram));
+  writeFileAtomically(path, qualityHistogramJson(histogram));
 }
 
 }  // namespace icrkit::eval

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <set>
 #include <utility>
 
@@ -201,10 +200,6 @@ Json tableRowJson(const TableOneRow& row) {
   return j;
 }
 
-void writeText(const std::string& path, const std::string& text) {
-  writeFileAtomically(path, [&](std::ostream& out) { out << text; });
-}
-
 }  // namespace
 
 std::optional<double> median(std::vector<double> values) {
@@ -322,9 +317,9 @@ std::string eligibilityJson(const EligibilitySummary& summary) {
   return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
-void writeTableOneJson(const std::string& path, const TableOne& table) { writeText(path, tableOneJson(table)); }
+void writeTableOneJson(const std::string& path, const TableOne& table) { writeFileAtomically(path, tableOneJson(table)); }
 void writeEligibilityJson(const std::string& path, const EligibilitySummary& summary) {
-  writeText(path, eligibilityJson(summary));
+  writeFileAtomically(path, eligibilityJson(summary));
 }
 
 }  // namespace icrkit::eval

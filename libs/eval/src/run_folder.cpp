@@ -25,6 +25,13 @@ std::string join(const std::string& dir, const std::string& a, const std::string
 std::string RunFolder::records() const { return join(dir, "grasps.jsonl"); }
 std::string RunFolder::runJson() const { return join(dir, "run.json"); }
 std::string RunFolder::renders() const { return join(dir, "renders"); }
+std::string RunFolder::render(const GraspRecord& record, const std::string& label) const {
+  return join(dir, "renders", renderStem(record) + label + ".png");
+}
+
+std::string renderStem(const GraspRecord& record) {
+  return record.dataset + "_" + std::to_string(record.fingers) + "fingers_grasp" + std::to_string(record.index) + "_";
+}
 std::string RunFolder::datasetDir(const std::string& dataset) const { return join(dir, "datasets", dataset); }
 std::string RunFolder::cadMesh(const std::string& dataset) const { return join(dir, "datasets", dataset, "object.ply"); }
 std::string RunFolder::reconstructionDir(const std::string& dataset) const {
@@ -47,7 +54,8 @@ std::string experimentConfigJson(const ExperimentConfig& config) {
                  : config.paths == GeodesicPaths::EdgesAndUnfoldedDiagonals ? "geodesic_edges_and_unfolded_diagonals"
                                                                             : "geodesic_edges"},
       {"max_line_distance_m", config.mapping.max_line_distance},
-      {"neighbourhood_radius_m", config.mapping.neighbourhood_radius},
+      // 0: automatic, as run.json has always said it.
+      {"neighbourhood_radius_m", config.mapping.neighbourhood_radius.value_or(0.0)},
       {"preselection", config.preselection},
       {"conservative_sigmas", config.conservative_sigmas},
       {"wrench_frame", "CAD mesh centroid, lambda = largest CAD vertex distance from it"}};
@@ -78,7 +86,8 @@ ExperimentConfig experimentConfigFromJson(const std::string& config_json) {
   out.metric = metric == "euclidean" ? DistanceMetric::Euclidean : DistanceMetric::Geodesic;
   if (metric == "geodesic_edges") out.paths = GeodesicPaths::Edges;
   out.mapping.max_line_distance = config.value("max_line_distance_m", out.mapping.max_line_distance);
-  out.mapping.neighbourhood_radius = config.value("neighbourhood_radius_m", out.mapping.neighbourhood_radius);
+  if (const double radius = config.value("neighbourhood_radius_m", 0.0); radius > 0.0)
+    out.mapping.neighbourhood_radius = radius;
   out.preselection = config.value("preselection", out.preselection);
   if (config.contains("conservative_sigmas"))
     out.conservative_sigmas = config.at("conservative_sigmas").get<std::vector<double>>();

@@ -17,7 +17,7 @@ std::string sensitivityDatasetName(const std::string& object, double noise_level
 }
 
 double sensitivitySpacing(const TriangleMesh& cad, const SensitivityParameters& params) {
-  if (params.spacing_m > 0) return params.spacing_m;
+  if (params.spacing_m) return *params.spacing_m;
   const Eigen::AlignedBox3d box = cad.vertices.bounds();
   return box.diagonal().norm() / 150.0;
 }
@@ -48,8 +48,8 @@ void validate(const TriangleMesh& cad, const SensitivityParameters& params) {
     if (!(std::isfinite(level) && level >= 0))
       throw InputError("SensitivityParameters::noise_levels", "", "noise levels are multiples of the spacing >= 0, got " + std::to_string(level));
   if (params.rules.empty()) throw InputError("SensitivityParameters::rules", "", "at least one preselection rule");
-  if (!(std::isfinite(params.spacing_m) && params.spacing_m >= 0))
-    throw InputError("SensitivityParameters::spacing_m", "", "expected metres > 0 (or 0: automatic)");
+  if (params.spacing_m && !(std::isfinite(*params.spacing_m) && *params.spacing_m > 0))
+    throw InputError("SensitivityParameters::spacing_m", "", "expected metres > 0 (or unset: automatic)");
   if (cad.faceCount() == 0) throw InputError("CAD mesh", "", "has no faces to sample");
   params.experiment.validate();
 }
@@ -72,7 +72,7 @@ SensitivityResult runSensitivityStudy(const TriangleMesh& cad, const std::string
   const auto [begin, end] = shard.range(sensitivityItems(params));
   PointCloud sample;
   for (std::size_t level = 0; level < params.noise_levels.size(); ++level) {
-    SensitivityLevelInfo info;
+    SensitivityLevelReport info;
     info.noise_level = params.noise_levels[level];
     info.sigma_m = info.noise_level * result.spacing_m;
     const std::size_t first = level * rules * per_dataset, last = first + rules * per_dataset;

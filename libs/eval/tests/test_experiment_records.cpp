@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 
 #include <cmath>
 #include <cstdint>

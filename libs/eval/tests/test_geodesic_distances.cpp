@@ -20,7 +20,7 @@ using test::flatGridGraphDistance;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-TEST(MeshDistances, FlatGridGeodesicsAreEdgeGraphPathLengths) {
+TEST(GeodesicDistances, FlatGridGeodesicsAreEdgeGraphPathLengths) {
   const int n = 21;
   const double h = 0.01;
   const TriangleMesh mesh = flatGrid(n, n, h);
@@ -41,7 +41,7 @@ TEST(MeshDistances, FlatGridGeodesicsAreEdgeGraphPathLengths) {
   EXPECT_EQ(field, d);
 }
 
-TEST(MeshDistances, EuclideanOptionIsStraightLine) {
+TEST(GeodesicDistances, EuclideanOptionIsStraightLine) {
   const TriangleMesh mesh = makeIcosphere(2, 0.05);
   const MeshDistanceGraph graph(mesh);
   DistanceWorkspace ws;
@@ -59,7 +59,7 @@ TEST(MeshDistances, EuclideanOptionIsStraightLine) {
   EXPECT_DOUBLE_EQ(nearest.distance, *it);
 }
 
-TEST(MeshDistances, NearestStopsAtTheFirstTargetAndBreaksTiesByIndex) {
+TEST(GeodesicDistances, NearestStopsAtTheFirstTargetAndBreaksTiesByIndex) {
   const int n = 101;
   const double h = 1.0 / 1024;  // exact in binary: equal edges have bitwise equal lengths
   const TriangleMesh mesh = flatGrid(n, n, h);
@@ -77,7 +77,7 @@ TEST(MeshDistances, NearestStopsAtTheFirstTargetAndBreaksTiesByIndex) {
   EXPECT_EQ(graph.nearest(centre, {}, DistanceMetric::Geodesic, ws).vertex, -1);
 }
 
-TEST(MeshDistances, TargetedQueriesStopWhenAllTargetsAreSettled) {
+TEST(GeodesicDistances, TargetedQueriesStopWhenAllTargetsAreSettled) {
   const int n = 101;
   const double h = 0.001;
   const TriangleMesh mesh = flatGrid(n, n, h);
@@ -92,7 +92,7 @@ TEST(MeshDistances, TargetedQueriesStopWhenAllTargetsAreSettled) {
   EXPECT_LT(ws.settledVertices(), 100u);
 }
 
-TEST(MeshDistances, EccentricityGivesUpBeyondTheBound) {
+TEST(GeodesicDistances, EccentricityGivesUpBeyondTheBound) {
   const int n = 41;
   const double h = 0.01;
   const TriangleMesh mesh = flatGrid(n, n, h);
@@ -111,7 +111,7 @@ TEST(MeshDistances, EccentricityGivesUpBeyondTheBound) {
   EXPECT_EQ(graph.eccentricity(centre, {}, DistanceMetric::Geodesic, ws), 0.0);
 }
 
-TEST(MeshDistances, ComponentsBoundaryAndUnreachableTargets) {
+TEST(GeodesicDistances, ComponentsBoundaryAndUnreachableTargets) {
   TriangleMesh mesh = flatGrid(5, 5, 0.1);
   const TriangleMesh other = flatGrid(3, 3, 0.1, Eigen::Vector3d(2.0, 0.0, 0.0));
   const int offset = static_cast<int>(mesh.vertexCount());
@@ -141,7 +141,7 @@ TEST(MeshDistances, ComponentsBoundaryAndUnreachableTargets) {
   EXPECT_TRUE(std::isfinite(graph.distances(0, {offset}, DistanceMetric::Euclidean, ws)[0]));
 }
 
-TEST(MeshDistances, WorkspaceIsReusableAcrossQueriesAndMeshes) {
+TEST(GeodesicDistances, WorkspaceIsReusableAcrossQueriesAndMeshes) {
   const TriangleMesh small = flatGrid(4, 4, 1.0);
   const TriangleMesh large = flatGrid(30, 30, 1.0);
   const MeshDistanceGraph a(small), b(large);
@@ -155,7 +155,7 @@ TEST(MeshDistances, WorkspaceIsReusableAcrossQueriesAndMeshes) {
   }
 }
 
-TEST(MeshDistances, BadInputThrowsInputError) {
+TEST(GeodesicDistances, BadInputThrowsInputError) {
   const TriangleMesh mesh = flatGrid(3, 3, 1.0);
   const MeshDistanceGraph graph(mesh);
   DistanceWorkspace ws;
@@ -209,7 +209,7 @@ std::ostream& operator<<(std::ostream& out, const Overestimate& o) {
              << 100 * o.min << " %";
 }
 
-TEST(MeshDistances, SphereOverestimateIsBounded) {
+TEST(GeodesicDistances, SphereOverestimateIsBounded) {
   // The figures quoted in geodesic_distances.hpp come from here (pairs at least
   // 5 / 20 mean edge lengths apart, 7 sources).
   const TriangleMesh ico = makeIcosphere(5);
@@ -238,7 +238,7 @@ TEST(MeshDistances, SphereOverestimateIsBounded) {
   }
 }
 
-TEST(MeshDistances, FlatGridOverestimateAgainstPlanarDistance) {
+TEST(GeodesicDistances, FlatGridOverestimateAgainstPlanarDistance) {
   // The worst case of a regular one-diagonal triangulation: exact along the
   // axes and the (1, 1) diagonal, Manhattan (x sqrt 2) along (1, -1).
   const int n = 41;

@@ -3,7 +3,10 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
 #include <icrkit/core/mesh_topology.hpp>
+#include <icrkit/eval/finger_intersections.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
+
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 
@@ -91,6 +94,30 @@ TEST(IntersectionEstimation, OutOfRangeVerticesAreInputErrors) {
   const RegionIntersection r = estimator.estimate({0, 1, 2}, mesh, {});
   EXPECT_EQ(r.intersection_area_m2, 0.0);
   EXPECT_EQ(r.false_positive_area_m2, 0.0);
+}
+
+TEST(FingerIntersections, PairedByFingerNumber) {
+  const TriangleMesh mesh = makeIcosphere(4, 0.05);
+  const std::vector<int> a = cap(mesh, Eigen::Vector3d(1, 0, 0), 0.4);
+  const std::vector<int> b = cap(mesh, Eigen::Vector3d(-1, 0, 0), 0.4);
+  const IntersectionEstimator estimator(mesh);
+  // The reconstruction lists the same fingers in the other order.
+  const std::vector<FingerIntersection> pairs = intersectByFinger(estimator, {3, 5}, {a, b}, mesh, {5, 3}, {b, a});
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0].finger, 3);
+  EXPECT_EQ(pairs[0].scan_region, 1u);
+  EXPECT_EQ(pairs[1].scan_region, 0u);
+  for (const FingerIntersection& p : pairs) {
+    EXPECT_NEAR(p.intersection.intersection_area_m2 / p.intersection.cad_region_area_m2, 1.0, 1e-12);
+    EXPECT_EQ(p.intersection.false_positive_area_m2, 0.0);
+  }
+  const InputError missing = test::expectInputError([&] { intersectByFinger(estimator, {3, 5}, {a, b}, mesh, {3}, {a}); });
+  EXPECT_EQ(missing.source(), "reconstructed regions");
+  EXPECT_NE(missing.detail().find("finger 5"), std::string::npos);
+  EXPECT_EQ(test::expectInputError([&] { intersectByFinger(estimator, {3}, {a}, mesh, {3, 4}, {a, b}); }).source(),
+            "CAD regions");
+  EXPECT_EQ(test::expectInputError([&] { intersectByFinger(estimator, {3, 4}, {a}, mesh, {3}, {a}); }).source(),
+            "CAD regions");
 }
 
 }  // namespace

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cmath>

@@ -95,7 +95,7 @@ TEST(SensitivityStudy, ShardsCoverTheStudyOnceAndBuildOnlyTheirLevels) {
   std::size_t builds = 0;
   for (std::size_t i = 0; i < 3; ++i) {
     const auto part = runSensitivityStudy(cad, "e", params, perfect(cad, params.rules), Shard{i, 3});
-    for (const SensitivityLevelInfo& level : part.levels) builds += level.built;
+    for (const SensitivityLevelReport& level : part.levels) builds += level.built;
     parts.insert(parts.end(), part.records.begin(), part.records.end());
   }
   std::sort(parts.begin(), parts.end());

@@ -188,7 +188,7 @@ void PatchParameters::validate() const {
   if (!std::isfinite(radius_m) || radius_m <= 0) {
     std::ostringstream detail;
     detail << "the patch radius must be a finite distance > 0 in metres, got " << radius_m;
-    throw InputError("patch parameters", "radius_m", detail.str());
+    throw InputError("PatchParameters::radius_m", "", detail.str());
   }
 }
 

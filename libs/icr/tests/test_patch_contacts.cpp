@@ -187,8 +187,7 @@ TEST(PatchContacts, BadInputIsRefused) {
       ContactPatches patches(object, params);
       FAIL() << "radius " << r << " accepted";
     } catch (const InputError& e) {
-      EXPECT_EQ(e.source(), "patch parameters");
-      EXPECT_EQ(e.location(), "radius_m");
+      EXPECT_EQ(e.source(), "PatchParameters::radius_m");
     }
   }
   const ContactPatches patches(object, PatchParameters{0.2, true});

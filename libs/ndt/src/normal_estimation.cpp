@@ -17,7 +17,7 @@
 
 namespace icrkit::ndt {
 
-NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimationParameters& params) {
+NormalEstimationReport estimateNormals(PointCloud& cloud, const NormalEstimationParameters& params) {
   const std::size_t n = cloud.size();
   if (n < 3) throw InputError("point cloud", "", "normal estimation needs at least 3 points, got " + std::to_string(n));
   for (std::size_t i = 0; i < n; ++i)
@@ -26,17 +26,15 @@ NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimatio
   if (!params.viewpoints.empty() && params.viewpoints.size() != n)
     throw InputError("viewpoints", "", "expected one viewpoint per point (" + std::to_string(n) + "), got " +
                                            std::to_string(params.viewpoints.size()));
-  if (!std::isfinite(params.radius) || params.radius < 0)
-    throw InputError("NormalEstimationParameters::radius", "", "the normal window radius must be positive, got " + std::to_string(params.radius));
+  if (!params.radius.valid())
+    throw InputError("NormalEstimationParameters::radius", "",
+                     "the normal window radius must be positive, got " + formatLength(params.radius));
 
-  NormalEstimationSummary summary;
+  NormalEstimationReport summary;
   summary.points = n;
-  summary.radius_m = params.radius;
-  if (!(params.radius > 0)) {
-    if (!(params.radius_factor > 0 && std::isfinite(params.radius_factor)))
-      throw InputError("NormalEstimationParameters::radius_factor", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
-    summary.radius_m = params.radius_factor * nearestNeighbourSpacing(cloud.positions).median;
-  }
+  summary.radius_m = params.radius.relative
+                         ? params.radius.metresFor(nearestNeighbourSpacing(cloud.positions).median)
+                         : params.radius.value;
   const std::size_t k = std::max<std::size_t>(3, params.min_neighbours);
 
   const KdTree tree(cloud.positions);

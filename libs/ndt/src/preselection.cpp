@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace icrkit::ndt {
 
@@ -16,11 +17,11 @@ const char* preselectionRuleName(PreselectionRule rule) {
   return "default";
 }
 
-PreselectionRule parsePreselectionRule(const std::string& name, const std::string& option) {
+PreselectionRule parsePreselectionRule(const std::string& name, const std::string& source) {
   if (name == "default" || name == "robust") return PreselectionRule::Robust;
   if (name == "paper-mean" || name == "paper") return PreselectionRule::PaperMean;
   if (name == "none") return PreselectionRule::None;
-  throw InputError(option, "", "unknown preselection rule '" + name + "', expected default, paper-mean or none");
+  throw InputError(source, "", "unknown preselection rule '" + name + "', expected default, paper-mean or none");
 }
 
 std::vector<PreselectionRule> allPreselectionRules() {
@@ -59,23 +60,33 @@ void validate(const std::vector<double>& cardinality, const std::vector<double>&
       throw InputError("preselection", "point " + std::to_string(i),
                        "expected a finite cardinality and flatness >= 0, got " + std::to_string(cardinality[i]) +
                            " and " + std::to_string(flatness[i]));
-  const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-  if (!(positive(p.robust_k) && positive(p.min_log_flatness_spread) && positive(p.always_flat) &&
-        std::isfinite(p.min_cardinality) && p.min_cardinality >= 0 && p.boundary_fraction >= 0 &&
-        p.boundary_fraction <= 1))
-    throw InputError("preselection", "", "the default rule's parameters must be positive (boundary fraction in [0, 1])");
-  for (const auto& t : {p.cardinality_threshold, p.flatness_threshold})
-    if (t && !(std::isfinite(*t) && *t >= 0))
-      throw InputError("preselection", "", "an explicit threshold must be finite and >= 0, got " + std::to_string(*t));
+  p.validate();
 }
 
 }  // namespace
+
+void PreselectionParameters::validate() const {
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  if (!(positive(robust_k) && positive(min_log_flatness_spread) && positive(always_flat) &&
+        std::isfinite(min_cardinality) && min_cardinality >= 0 && boundary_fraction >= 0 && boundary_fraction <= 1))
+    throw InputError("PreselectionParameters", "",
+                     "the default rule's parameters must be positive (boundary fraction in [0, 1])");
+  const auto check = [](const char* field, const std::optional<double>& t) {
+    if (t && !(std::isfinite(*t) && *t >= 0)) {
+      std::ostringstream text;
+      text << "expected a finite threshold >= 0, got " << *t;
+      throw InputError(field, "", text.str());
+    }
+  };
+  check("PreselectionParameters::cardinality_threshold", cardinality_threshold);
+  check("PreselectionParameters::flatness_threshold", flatness_threshold);
+}
 
 Preselection preselect(const std::vector<double>& cardinality, const std::vector<double>& flatness,
                        const PreselectionParameters& params) {
   validate(cardinality, flatness, params);
   Preselection out;
-  PreselectionSummary& s = out.summary;
+  PreselectionReport& s = out.summary;
   const std::size_t n = cardinality.size();
   s.rule = params.rule;
   s.points = n;
@@ -147,7 +158,7 @@ Preselection preselect(const std::vector<double>& cardinality, const std::vector
   return out;
 }
 
-PreselectionSummary applyPreselection(AttributeSet& attributes, std::size_t count, const PreselectionParameters& params,
+PreselectionReport applyPreselection(AttributeSet& attributes, std::size_t count, const PreselectionParameters& params,
                                       const std::string& source) {
   const auto column = [&](const char* name) -> const std::vector<double>& {
     const Attribute* a = attributes.find(name);

@@ -34,14 +34,7 @@ void validate(const PointCloud& cloud, const SmoothingParameters& params) {
   for (std::size_t i = 0; i < cloud.size(); ++i)
     if (!cloud.positions[i].allFinite())
       throw InputError("point cloud", "point " + std::to_string(i), "non-finite coordinate, expected finite x, y, z");
-  if (params.radius < 0 || !std::isfinite(params.radius))
-    throw InputError("SmoothingParameters::radius", "", "the window radius must be positive, got " + std::to_string(params.radius));
-  if (params.radius == 0 && !(params.radius_factor > 0 && std::isfinite(params.radius_factor)))
-    throw InputError("SmoothingParameters::radius_factor", "", "the radius factor must be positive, got " + std::to_string(params.radius_factor));
-  if (params.passes < 1) throw InputError("SmoothingParameters::passes", "", "at least one pass, got " + std::to_string(params.passes));
-  if (!(params.max_normal_angle > 0))
-    throw InputError("SmoothingParameters::max_normal_angle", "",
-                     "expected an angle > 0 radians, got " + std::to_string(params.max_normal_angle));
+  params.validate();
 }
 
 // The input normals (unit, or zero for none) and the cosine a window's
@@ -158,18 +151,31 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
 
 }  // namespace
 
-SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params, const ProgressCallback& progress) {
+void SmoothingParameters::validate() const {
+  if (!radius.valid())
+    throw InputError("SmoothingParameters::radius", "",
+                     "the window radius must be positive, got " + formatLength(radius));
+  if (passes < 1) throw InputError("SmoothingParameters::passes", "", "at least one pass, got " + std::to_string(passes));
+  if (!(max_normal_angle > 0))
+    throw InputError("SmoothingParameters::max_normal_angle", "",
+                     "expected an angle > 0 radians, got " + std::to_string(max_normal_angle));
+  if (!(std::isfinite(flatness_floor) && flatness_floor > 0 && flatness_floor <= 1))
+    throw InputError("SmoothingParameters::flatness_floor", "", "expected a fraction in (0, 1]");
+  preselection.validate();
+}
+
+SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params, const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   validate(cloud, params);
-  SmoothingSummary summary;
+  SmoothingReport summary;
   const std::size_t n = cloud.size();
   summary.points = n;
   summary.passes = params.passes;
   // The spacing costs a k-NN query per point; only a relative radius needs it.
-  if (!(params.radius > 0)) summary.median_spacing_m = nearestNeighbourSpacing(cloud.positions).median;
-  summary.radius_m = params.radius > 0 ? params.radius : params.radius_factor * summary.median_spacing_m;
+  if (params.radius.relative) summary.median_spacing_m = nearestNeighbourSpacing(cloud.positions).median;
+  summary.radius_m = params.radius.metresFor(summary.median_spacing_m);
   if (!(summary.radius_m > 0))
-    throw InputError("SmoothingParameters::radius_factor", "", "the median point spacing is 0 (duplicated points); give the radius in metres");
+    throw InputError("SmoothingParameters::radius", "", "the median point spacing is 0 (duplicated points); give the radius in metres");
 
   const std::vector<Eigen::Vector3d> original = cloud.positions;
   std::vector<int> cardinality;

@@ -65,9 +65,9 @@ TEST_P(PlaneUncertainty, SmoothingRecordsTheSpreadOfItsNormalsAndPositions) {
   const test::SyntheticCloud s = test::makePlane(90, spacing, c.sigma, 19);
   PointCloud smoothed = s.cloud;
   SmoothingParameters params;
-  params.radius_factor = c.radius_factor;
+  params.radius = Length::spacings(c.radius_factor);
   params.preselection.rule = PreselectionRule::None;
-  const SmoothingSummary summary = smoothPointCloud(smoothed, params);
+  const SmoothingReport summary = smoothPointCloud(smoothed, params);
   const Spread spread = measure(s, smoothed, summary.radius_m + spacing);
   expectWithin20Percent(spread.recorded_normal, spread.true_normal, "smoothed normal");
   expectWithin20Percent(spread.recorded_position, spread.true_position, "smoothed position");
@@ -79,8 +79,8 @@ TEST_P(PlaneUncertainty, RawNormalEstimationRecordsTheSpreadOfItsNormalsAndThePo
   const test::SyntheticCloud s = test::makePlane(90, spacing, c.sigma, 23);
   PointCloud raw = s.cloud;
   NormalEstimationParameters params;
-  params.radius_factor = c.radius_factor;
-  const NormalEstimationSummary summary = estimateNormals(raw, params);
+  params.radius = Length::spacings(c.radius_factor);
+  const NormalEstimationReport summary = estimateNormals(raw, params);
   const Spread spread = measure(s, raw, summary.radius_m + spacing);
   expectWithin20Percent(spread.recorded_normal, spread.true_normal, "raw normal");
   expectWithin20Percent(spread.recorded_position, spread.true_position, "raw position");

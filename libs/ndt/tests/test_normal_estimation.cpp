@@ -25,7 +25,7 @@ PointCloud randomSphere(std::size_t count, double radius, std::uint64_t seed) {
 
 TEST(NormalEstimation, SphereNormalsAreRadialAndOutward) {
   PointCloud cloud = randomSphere(5000, 0.1, 3);
-  const NormalEstimationSummary s = estimateNormals(cloud);
+  const NormalEstimationReport s = estimateNormals(cloud);
   ASSERT_EQ(cloud.normals.size(), cloud.size());
   EXPECT_GT(s.radius_m, 0.0);
   double worst = 1.0;
@@ -72,8 +72,8 @@ TEST(NormalEstimation, IsolatedPointsFallBackToNearestNeighbours) {
   PointCloud cloud = randomSphere(2000, 0.1, 5);
   cloud.positions.emplace_back(0.5, 0, 0);  // far from everything
   NormalEstimationParameters params;
-  params.radius = 0.02;
-  const NormalEstimationSummary s = estimateNormals(cloud, params);
+  params.radius = Length::metres(0.02);
+  const NormalEstimationReport s = estimateNormals(cloud, params);
   EXPECT_GE(s.small_windows, 1u);
   EXPECT_TRUE(cloud.normals.back().allFinite());
   EXPECT_NEAR(cloud.normals.back().norm(), 1.0, 1e-12);
@@ -88,7 +88,7 @@ TEST(NormalEstimation, BadInput) {
   EXPECT_THROW(estimateNormals(cloud), InputError);
   cloud = randomSphere(100, 1.0, 2);
   NormalEstimationParameters params;
-  params.radius = -1;
+  params.radius = Length::metres(-1);
   EXPECT_THROW(estimateNormals(cloud, params), InputError);
 }
 

@@ -188,7 +188,7 @@ TEST(NormalOrientation, SmoothingOrientsTheTorusLikeTheStandaloneCall) {
   Torus t = randomTorus(20000, 0.08, 0.03, 10);
   PointCloud smoothed = t.cloud;
   SmoothingParameters params;
-  params.radius = 0.006;
+  params.radius = Length::metres(0.006);
   smoothPointCloud(smoothed, params);
   std::size_t wrong = 0;
   for (std::size_t i = 0; i < t.cloud.size(); ++i) wrong += smoothed.normals[i].dot(t.truth[i]) < 0 ? 1 : 0;

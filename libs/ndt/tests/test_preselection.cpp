@@ -6,7 +6,10 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/ndt/preselection.hpp>
+#include <icrkit/ndt/preselection_record.hpp>
 #include <icrkit/ndt/smoothing.hpp>
+
+#include <test_support.hpp>
 
 #include <gtest/gtest.h>
 
@@ -200,7 +203,8 @@ TEST(Preselection, ReappliedFromAttributesDecidesAsTheSmoothingDid) {
 }
 
 TEST(Preselection, BadInputIsAnInputError) {
-  EXPECT_THROW(parsePreselectionRule("median"), InputError);
+  EXPECT_EQ(icrkit::test::expectInputError([] { parsePreselectionRule("median"); }).source(), "PreselectionParameters::rule");
+  EXPECT_EQ(icrkit::test::expectInputError([] { parsePreselectionRule("median", "--preselection"); }).source(), "--preselection");
   EXPECT_EQ(parsePreselectionRule("default"), PreselectionRule::Robust);
   EXPECT_EQ(parsePreselectionRule("paper-mean"), PreselectionRule::PaperMean);
   EXPECT_EQ(parsePreselectionRule("none"), PreselectionRule::None);
@@ -210,6 +214,13 @@ TEST(Preselection, BadInputIsAnInputError) {
   PreselectionParameters bad;
   bad.robust_k = -1;
   EXPECT_THROW(preselect({1, 2}, {1, 1}, bad), InputError);
+  PreselectionParameters negative;
+  negative.flatness_threshold = -1.0;
+  EXPECT_EQ(icrkit::test::expectInputError([&] { negative.validate(); }).source(), "PreselectionParameters::flatness_threshold");
+  negative = {};
+  negative.cardinality_threshold = std::nan("");
+  EXPECT_EQ(icrkit::test::expectInputError([&] { preselect({1, 2}, {1, 1}, negative); }).source(),
+            "PreselectionParameters::cardinality_threshold");
   AttributeSet empty;
   try {
     applyPreselection(empty, 3, {}, "mesh.ply");
@@ -218,6 +229,24 @@ TEST(Preselection, BadInputIsAnInputError) {
     EXPECT_EQ(e.source(), "mesh.ply");
     EXPECT_NE(e.detail().find("cardinality"), std::string::npos);
   }
+}
+
+TEST(PreselectionRecord, SaysWhatTheRuleDid) {
+  PreselectionReport summary;
+  summary.rule = PreselectionRule::PaperMean;
+  summary.points = 200;
+  summary.excluded = 50;
+  summary.excluded_both = 10;
+  summary.cardinality_threshold = 12.5;
+  const std::string mean = preselectionRecordJson(summary, true, false);
+  EXPECT_NE(mean.find("\"rule\":\"paper-mean\""), std::string::npos) << mean;
+  EXPECT_NE(mean.find("\"cardinality_source\":\"given\""), std::string::npos) << mean;
+  EXPECT_NE(mean.find("\"flatness_source\":\"mean\""), std::string::npos) << mean;
+  EXPECT_NE(mean.find("\"percent\":25.0"), std::string::npos) << mean;
+  summary.rule = PreselectionRule::None;
+  const std::string none = preselectionRecordJson(summary);
+  EXPECT_NE(none.find("\"excluded\":null"), std::string::npos) << none;
+  EXPECT_NE(none.find("\"thresholds\":null"), std::string::npos) << none;
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/ndt/smoothing.hpp>
 
+#include <test_support.hpp>
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -29,7 +31,7 @@ constexpr double kSigma = 0.001;    // 1 mm along the normal
 struct RmsOutcome {
   double before = 0, after = 0;
   std::size_t counted = 0;
-  SmoothingSummary summary;
+  SmoothingReport summary;
   PointCloud smoothed;
 };
 
@@ -45,7 +47,7 @@ RmsOutcome smoothAndMeasure(const SyntheticCloud& s, const SmoothingParameters& 
 
 void expectHalvedRms(const SyntheticCloud& s, const char* name) {
   SmoothingParameters params;
-  params.radius_factor = 4.0;
+  params.radius = Length::spacings(4.0);
   const RmsOutcome o = smoothAndMeasure(s, params);
   ::testing::Test::RecordProperty(std::string(name) + "_rms_before_mm", std::to_string(o.before * 1e3));
   ::testing::Test::RecordProperty(std::string(name) + "_rms_after_mm", std::to_string(o.after * 1e3));
@@ -79,7 +81,7 @@ TEST(Smoothing, LeavesAnExactPlaneOnThePlane) {
   // moves nothing and v3 is the plane normal.
   const SyntheticCloud s = test::makePlane(60, kSpacing, 0.0, 1);
   PointCloud cloud = s.cloud;
-  const SmoothingSummary summary = smoothPointCloud(cloud);
+  const SmoothingReport summary = smoothPointCloud(cloud);
   EXPECT_EQ(summary.small_windows, 0u);
   EXPECT_LE(summary.max_displacement_m, 1e-15);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -106,7 +108,7 @@ TEST(Smoothing, OneSidedWindowsKeepTheTwoSidesOfAThinWallApart) {
   }
   const std::size_t half = top.cloud.size();
   SmoothingParameters params;
-  params.radius = 4e-3;
+  params.radius = Length::metres(4e-3);
   params.preselection.rule = PreselectionRule::None;
   PointCloud two_sided = wall;
   smoothPointCloud(two_sided, params);
@@ -136,7 +138,7 @@ TEST(Smoothing, OneSidedWindowsKeepTheTwoSidesOfAThinWallApart) {
 
 struct EdgeFaceRates {
   double edge = 0, face = 0;
-  SmoothingSummary summary;
+  SmoothingReport summary;
 };
 
 // Exclusion rate of the points whose clean sample is within r of a box edge
@@ -161,7 +163,7 @@ EdgeFaceRates boxExclusionRates(const SmoothingParameters& params, const char* l
   rates.face = static_cast<double>(face_excluded) / static_cast<double>(face);
   ::testing::Test::RecordProperty(std::string(label) + "_edge_exclusion_rate", std::to_string(rates.edge));
   ::testing::Test::RecordProperty(std::string(label) + "_face_exclusion_rate", std::to_string(rates.face));
-  const SmoothingSummary& m = rates.summary;
+  const SmoothingReport& m = rates.summary;
   std::printf("[ box, %s ] r = %.3f mm; excluded: within r of an edge %.1f %% of %zu, faces %.1f %% of %zu "
               "(cardinality only %zu, flatness only %zu, both %zu; thresholds %.1f points, flatness %.3f)\n",
               label, m.radius_m * 1e3, 100 * rates.edge, edge, 100 * rates.face, face, m.preselection.excluded_cardinality_only,
@@ -214,7 +216,7 @@ TEST(Smoothing, DefaultRuleExcludesTheEdgesOfANoiseFreeBoxOutright) {
   // edge itself goes, no face point does.
   const SyntheticCloud s = test::makeBox(0.08, kSpacing, 0.0, 104);
   PointCloud cloud = s.cloud;
-  const SmoothingSummary summary = smoothPointCloud(cloud);
+  const SmoothingReport summary = smoothPointCloud(cloud);
   std::size_t at_edge = 0, at_edge_excluded = 0, face_excluded = 0, face = 0;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (s.edge_distance[i] < kSpacing) {
@@ -237,7 +239,7 @@ TEST(Smoothing, AFewDegenerateWindowsDoNotDecideThePreselectionOfTheWholeCloud) 
   // PCL stereo view has thousands of exactly planar windows).
   const SyntheticCloud s = test::makePlane(150, kSpacing, 0.0005, 81);
   PointCloud clean_run = s.cloud;
-  const SmoothingSummary reference = smoothPointCloud(clean_run);
+  const SmoothingReport reference = smoothPointCloud(clean_run);
   const double reference_rate = static_cast<double>(reference.preselection.excluded) / static_cast<double>(reference.points);
 
   PointCloud cloud = s.cloud;
@@ -247,7 +249,7 @@ TEST(Smoothing, AFewDegenerateWindowsDoNotDecideThePreselectionOfTheWholeCloud) 
     cloud.positions.push_back(base + Eigen::Vector3d(0.001, 0.0, 0.0002));
     cloud.positions.push_back(base + Eigen::Vector3d(0.0, 0.0012, -0.0001));
   }
-  const SmoothingSummary summary = smoothPointCloud(cloud);
+  const SmoothingReport summary = smoothPointCloud(cloud);
   std::size_t surface_excluded = 0;
   for (std::size_t i = 0; i < s.cloud.size(); ++i) surface_excluded += cloud.flag("excluded", i);
   const double rate = static_cast<double>(surface_excluded) / static_cast<double>(s.cloud.size());
@@ -264,7 +266,7 @@ TEST(Smoothing, IsolatedOutliersAreExcludedAndLeftWhereTheyAre) {
   for (int k = 0; k < 4; ++k) outliers.emplace_back(0.01 + 0.02 * k, 0.05, 0.02);
   const std::size_t first = s.cloud.size();
   for (const Eigen::Vector3d& p : outliers) s.cloud.positions.push_back(p);
-  const SmoothingSummary summary = smoothPointCloud(s.cloud);
+  const SmoothingReport summary = smoothPointCloud(s.cloud);
   EXPECT_EQ(summary.small_windows, outliers.size());
   for (std::size_t k = 0; k < outliers.size(); ++k) {
     const std::size_t i = first + k;
@@ -282,8 +284,8 @@ TEST(Smoothing, WindowsWithFewerThanThreePointsLeaveThePointUnchanged) {
   cloud.positions = {{0, 0, 0}, {0.001, 0.0002, -0.0003}, {1, 1, 1}, {1.0004, 1.0008, 0.9991}, {-2, 0.5, 3}};
   const std::vector<Eigen::Vector3d> before = cloud.positions;
   SmoothingParameters params;
-  params.radius = 0.005;
-  const SmoothingSummary summary = smoothPointCloud(cloud, params);
+  params.radius = Length::metres(0.005);
+  const SmoothingReport summary = smoothPointCloud(cloud, params);
   EXPECT_EQ(summary.small_windows, 5u);
   EXPECT_EQ(cloud.positions, before);
   EXPECT_EQ(summary.max_displacement_m, 0.0);
@@ -295,7 +297,7 @@ TEST(Smoothing, WindowsWithFewerThanThreePointsLeaveThePointUnchanged) {
   PointCloud triangle;
   triangle.positions = {{0, 0, 0}, {0.001, 0, 0}, {0, 0.001, 0}};
   params.viewpoint = Eigen::Vector3d(0, 0, 1);
-  const SmoothingSummary tri = smoothPointCloud(triangle, params);
+  const SmoothingReport tri = smoothPointCloud(triangle, params);
   EXPECT_EQ(tri.small_windows, 0u);
   for (const Eigen::Vector3d& n : triangle.normals) EXPECT_NEAR(n.z(), 1.0, 1e-12);
 }
@@ -304,8 +306,8 @@ TEST(Smoothing, SinglePointWithAnExplicitRadiusIsLeftAlone) {
   PointCloud cloud;
   cloud.positions = {{0.1, 0.2, 0.3}};
   SmoothingParameters params;
-  params.radius = 0.01;
-  const SmoothingSummary summary = smoothPointCloud(cloud, params);
+  params.radius = Length::metres(0.01);
+  const SmoothingReport summary = smoothPointCloud(cloud, params);
   EXPECT_EQ(summary.small_windows, 1u);
   EXPECT_EQ(cloud.positions[0], Eigen::Vector3d(0.1, 0.2, 0.3));
 }
@@ -394,9 +396,9 @@ TEST(Smoothing, PreselectionUsesTheStatisticsOfTheFirstPass) {
   const SyntheticCloud s = test::makeSphere(Eigen::Vector3d(0, 0, 0), 0.03, kSpacing, kSigma, 31);
   PointCloud once = s.cloud, thrice = s.cloud;
   SmoothingParameters params;
-  const SmoothingSummary one = smoothPointCloud(once, params);
+  const SmoothingReport one = smoothPointCloud(once, params);
   params.passes = 3;
-  const SmoothingSummary three = smoothPointCloud(thrice, params);
+  const SmoothingReport three = smoothPointCloud(thrice, params);
   EXPECT_EQ(three.passes, 3);
   EXPECT_EQ(one.radius_m, three.radius_m);
   EXPECT_EQ(one.preselection.mean_cardinality, three.preselection.mean_cardinality);
@@ -417,7 +419,7 @@ TEST(Smoothing, SummaryCountsAndThresholdsAgreeWithTheAttributes) {
   PointCloud cloud = s.cloud;
   SmoothingParameters params;
   params.preselection.rule = PreselectionRule::PaperMean;
-  const SmoothingSummary summary = smoothPointCloud(cloud, params);
+  const SmoothingReport summary = smoothPointCloud(cloud, params);
   const auto& card = cloud.attributes.get("cardinality").values;
   const auto& flat = cloud.attributes.get("flatness").values;
   double card_sum = 0;
@@ -448,19 +450,19 @@ TEST(Smoothing, ExplicitThresholdsAndDisabledPreselection) {
   SmoothingParameters params;
   params.preselection.cardinality_threshold = 0.0;
   params.preselection.flatness_threshold = 0.0;
-  const SmoothingSummary keep_all = smoothPointCloud(cloud, params);
+  const SmoothingReport keep_all = smoothPointCloud(cloud, params);
   EXPECT_EQ(keep_all.preselection.excluded, 0u);
   EXPECT_EQ(keep_all.preselection.cardinality_threshold, 0.0);
 
   cloud = s.cloud;
   params.preselection.cardinality_threshold = 1e9;
-  const SmoothingSummary drop_all = smoothPointCloud(cloud, params);
+  const SmoothingReport drop_all = smoothPointCloud(cloud, params);
   EXPECT_EQ(drop_all.preselection.excluded, cloud.size());
 
   cloud = s.cloud;
   params = {};
   params.preselection.rule = PreselectionRule::None;
-  const SmoothingSummary none = smoothPointCloud(cloud, params);
+  const SmoothingReport none = smoothPointCloud(cloud, params);
   EXPECT_EQ(none.preselection.excluded, 0u);
   EXPECT_FALSE(cloud.attributes.has("excluded"));
   EXPECT_TRUE(cloud.attributes.has("cardinality"));
@@ -472,8 +474,8 @@ TEST(Smoothing, ExplicitRadiusOverridesTheFactor) {
   const SyntheticCloud s = test::makePlane(40, kSpacing, 0.0, 61);
   PointCloud cloud = s.cloud;
   SmoothingParameters params;
-  params.radius = 0.0015;  // a 1 mm grid: the point, 4 at 1 mm and 4 at 1.41 mm
-  const SmoothingSummary summary = smoothPointCloud(cloud, params);
+  params.radius = Length::metres(0.0015);  // a 1 mm grid: the point, 4 at 1 mm and 4 at 1.41 mm
+  const SmoothingReport summary = smoothPointCloud(cloud, params);
   EXPECT_EQ(summary.radius_m, 0.0015);
   EXPECT_EQ(summary.median_spacing_m, 0.0);  // not measured: the radius was given in metres
   EXPECT_EQ(cloud.attributes.get("cardinality").values[20 * 40 + 20], 9.0);
@@ -512,9 +514,9 @@ TEST(Smoothing, BadInputThrowsInputError) {
   EXPECT_THROW(smoothPointCloud(inf_cloud, params), InputError);
 
   PointCloud cloud = s.cloud;
-  params.radius = -0.001;
+  params.radius = Length::metres(-0.001);
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
-  params.radius = std::numeric_limits<double>::quiet_NaN();
+  params.radius = Length::metres(std::numeric_limits<double>::quiet_NaN());
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
   params = {};
   params.passes = 0;
@@ -522,13 +524,27 @@ TEST(Smoothing, BadInputThrowsInputError) {
   params.passes = -2;
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
   params = {};
-  params.radius_factor = 0.0;
+  params.radius = Length::spacings(0.0);
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
   params = {};
   params.max_normal_angle = 0.0;
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
   params.max_normal_angle = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(smoothPointCloud(cloud, params), InputError);
+  // Each field is named before any work (a command maps it to its flag).
+  params = {};
+  params.radius = Length::spacings(-4.0);
+  EXPECT_EQ(icrkit::test::expectInputError([&] { params.validate(); }).source(), "SmoothingParameters::radius");
+  params = {};
+  params.passes = 0;
+  EXPECT_EQ(icrkit::test::expectInputError([&] { params.validate(); }).source(), "SmoothingParameters::passes");
+  params = {};
+  params.flatness_floor = 0.0;
+  EXPECT_EQ(icrkit::test::expectInputError([&] { params.validate(); }).source(), "SmoothingParameters::flatness_floor");
+  params = {};
+  params.preselection.flatness_threshold = -0.5;
+  EXPECT_EQ(icrkit::test::expectInputError([&] { params.validate(); }).source(), "PreselectionParameters::flatness_threshold");
+  EXPECT_NO_THROW(SmoothingParameters{}.validate());
   // All points in one place: no spacing to derive a radius from.
   PointCloud coincident;
   coincident.positions.assign(10, Eigen::Vector3d(1, 2, 3));
@@ -551,7 +567,7 @@ TEST(SmoothingTable, DISABLED_RmsReductionOnPlaneAndSphere) {
                                    : test::makeSphere(Eigen::Vector3d::Zero(), 0.06, kSpacing, sigma, 1000);
       for (double factor : {4.0, 6.0, 8.0}) {
         SmoothingParameters params;
-        params.radius_factor = factor;
+        params.radius = Length::spacings(factor);
         const RmsOutcome one = smoothAndMeasure(s, params);
         params.passes = 3;
         const RmsOutcome three = smoothAndMeasure(s, params);
@@ -578,8 +594,8 @@ TEST(SmoothingTable, DISABLED_BoxExclusionRates) {
     for (double factor : {4.0, 6.0}) {
       PointCloud cloud = s.cloud;
       SmoothingParameters params;
-      params.radius_factor = factor;
-      const SmoothingSummary summary = smoothPointCloud(cloud, params);
+      params.radius = Length::spacings(factor);
+      const SmoothingReport summary = smoothPointCloud(cloud, params);
       const auto& card = cloud.attributes.get("cardinality").values;
       const auto& flat = cloud.attributes.get("flatness").values;
       double n[2] = {0, 0}, ex[2] = {0, 0}, by_c[2] = {0, 0}, by_f[2] = {0, 0};

@@ -165,8 +165,8 @@ TEST(SmoothingRealData, BunnyScanWithAddedNoiseMovesCloserToTheReferenceMesh) {
   }
   PointCloud smoothed = noisy;
   SmoothingParameters params;
-  params.radius_factor = 4.0;
-  const SmoothingSummary summary = smoothPointCloud(smoothed, params);
+  params.radius = Length::spacings(4.0);
+  const SmoothingReport summary = smoothPointCloud(smoothed, params);
 
   const double raw = meanDistance(distance, scan.positions);
   const double before = meanDistance(distance, noisy.positions);
@@ -274,7 +274,7 @@ void checkPclView(const std::string& file) {
   ASSERT_GT(cloud.size(), 1000u);
   SmoothingParameters params;
   params.viewpoint = Eigen::Vector3d::Zero();  // both files: VIEWPOINT 0 0 0, the camera at the origin
-  const SmoothingSummary summary = smoothPointCloud(cloud, params);
+  const SmoothingReport summary = smoothPointCloud(cloud, params);
   const double excluded = static_cast<double>(summary.preselection.excluded) / static_cast<double>(summary.points);
   std::size_t towards = 0, unit = 0;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -319,7 +319,7 @@ TEST(SmoothingRealData, PreselectionRulesOnTheBunnyLaserScan) {
   const std::string path = sharedData("stanford-bunny/bun000.ply");
   REQUIRE_SHARED_FILE(path);
   PointCloud cloud = io::readPointCloud(path);
-  const SmoothingSummary summary = smoothPointCloud(cloud);
+  const SmoothingReport summary = smoothPointCloud(cloud);
   const double excluded = static_cast<double>(summary.preselection.excluded) / static_cast<double>(summary.points);
   const double paper = excludedShare(cloud, PreselectionRule::PaperMean);
   std::printf("[ bun000 as scanned ] %zu points, default excludes %.1f %% (F < %.2f or |W| < %.1f), paper-mean %.1f %%\n",

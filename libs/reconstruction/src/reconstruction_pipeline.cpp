@@ -125,16 +125,36 @@ std::optional<Eigen::Vector3d> convergencePoint(const std::vector<Eigen::Isometr
   return x;
 }
 
+void validateReconstructionParameters(const ReconstructionParameters& params) {
+  const auto finite = [](double value) { return std::isfinite(value); };
+  if (!(params.rotation_tolerance >= 0) || !finite(params.rotation_tolerance))
+    throw InputError("ReconstructionParameters::rotation_tolerance", "", "expected max |R^T R - I| >= 0");
+  if (!(params.auto_crop_half_size > 0) || !finite(params.auto_crop_half_size))
+    throw InputError("ReconstructionParameters::auto_crop_half_size", "", "expected a positive half-size in metres");
+  if (params.crop_box && (params.crop_box->isEmpty() || !params.crop_box->min().allFinite() ||
+                          !params.crop_box->max().allFinite()))
+    throw InputError("ReconstructionParameters::crop_box", "", "expected finite corners with min < max");
+  if (params.board && (!(params.board->square_size > 0) || !finite(params.board->square_size)))
+    throw InputError("BoardLattice::square_size", "", "expected the checkerboard's square size in metres (> 0)");
+  if (params.board && !params.register_scans)
+    throw InputError("ReconstructionParameters::board", "",
+                     "the checkerboard poses enter the registration's pose graph; registration is off");
+  if (params.confidence.min_confidence < 0 || params.confidence.min_confidence > 255)
+    throw InputError("ConfidenceFilterParameters::min_confidence", "", "expected 0..255");
+  if (params.confidence.min_amplitude < 0 || params.confidence.min_amplitude > 255)
+    throw InputError("ConfidenceFilterParameters::min_amplitude", "", "expected 0..255");
+  if (!(params.range.max_range >= 0) || !finite(params.range.max_range))
+    throw InputError("RangeGateParameters::max_range", "", "expected 0 (none) or metres");
+  if (!(params.fusion.resolution > 0) || !finite(params.fusion.resolution))
+    throw InputError("OctreeFusionParameters::resolution", "", "expected metres > 0");
+  if (params.smoothing.passes < 1) throw InputError("SmoothingParameters::passes", "", "expected at least 1");
+  params.meshing.validate();
+}
+
 ReconstructionResult reconstructRawlog(const std::string& rawlog, const ReconstructionParameters& params,
                                        const ProgressCallback& progress) {
   const auto total_start = Clock::now();
-  if (!(params.auto_crop_half_size > 0) || !std::isfinite(params.auto_crop_half_size))
-    throw InputError("auto_crop_half_size", "", "expected a positive length in metres");
-  if (params.crop_box && (params.crop_box->isEmpty() || !params.crop_box->min().allFinite() ||
-                          !params.crop_box->max().allFinite()))
-    throw InputError("crop box", "", "expected finite corners with min < max");
-  if (params.board && !params.register_scans)
-    throw InputError("board", "", "the checkerboard poses enter the registration's pose graph; registration is off");
+  validateReconstructionParameters(params);
   ReconstructionResult result;
   ReconstructionTimes& times = result.times;
 
@@ -163,7 +183,8 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
                                                });
     if (!centre && one_pose)
       throw InputError(rawlog, "", "every view has the same pose (a depth folder read without a pose file has none): "
-                                   "give the camera poses (--poses FILE, TUM) or the object's region (--crop)");
+                                   "give the camera poses (ReconstructionParameters::pose_file, a TUM file) or the "
+                                   "object's region (ReconstructionParameters::crop_box)");
     if (!centre)
       throw InputError(rawlog, "", "cannot place the crop box: the views' optical axes do not converge on an object "
                                    "(give the object's region explicitly)");
@@ -268,8 +289,8 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
     // its noise layer is as thick as one scan's noise, so a window scaled to
     // it sees noise, not the surface (raw normals 40-45 deg off the CAD
     // normals on the Kinect datasets).
-    if (!(normals.radius > 0) && result.scan_spacing_m > 0)
-      normals.radius = normals.radius_factor * result.scan_spacing_m;
+    if (normals.radius.relative && result.scan_spacing_m > 0)
+      normals.radius = Length::metres(normals.radius.metresFor(result.scan_spacing_m));
     normals.viewpoints = viewpoints;
     result.normals = ndt::estimateNormals(result.cloud, normals);
     times.normals_ms = msSince(start);

@@ -85,7 +85,7 @@ TEST(BallPivoting, SingleTriangle) {
   cloud.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   cloud.normals.assign(3, Eigen::Vector3d::UnitZ());
   BallPivotingParameters params;
-  params.radii = {1.0};
+  params.radii = {Length::metres(1.0)};
   const BallPivotingResult r = ballPivoting(cloud, params);
   ASSERT_EQ(r.mesh.faces.size(), 1u);
   EXPECT_EQ(facesAgainstNormals(r.mesh), 0u);
@@ -93,7 +93,7 @@ TEST(BallPivoting, SingleTriangle) {
   EXPECT_EQ(r.report.boundary_loops, 1u);
   EXPECT_EQ(r.report.used_points, 3u);
   // Too small a ball cannot touch all three points (circumradius 0.707 m).
-  params.radii = {0.7};
+  params.radii = {Length::metres(0.7)};
   EXPECT_TRUE(ballPivoting(cloud, params).mesh.faces.empty());
 }
 
@@ -102,7 +102,7 @@ TEST(BallPivoting, FlippedNormalsFlipTheWinding) {
   cloud.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.1}};
   cloud.normals.assign(4, Eigen::Vector3d::UnitZ());
   BallPivotingParameters params;
-  params.radii = {1.0};
+  params.radii = {Length::metres(1.0)};
   const BallPivotingResult up = ballPivoting(cloud, params);
   for (auto& n : cloud.normals) n = -n;
   const BallPivotingResult down = ballPivoting(cloud, params);
@@ -221,7 +221,7 @@ TEST(BallPivoting, AutomaticRadiiFollowTheSampling) {
   EXPECT_EQ(closed.report.components, 1u);
   // Given factors are all there is.
   BallPivotingParameters given;
-  given.radius_factors = {2.0};
+  given.radii = {Length::spacings(2.0)};
   given.gap_radius_factor = 0.0;
   EXPECT_EQ(ballPivotingRadii(random, given), std::vector<double>{2.0 * spacing});
 }
@@ -246,7 +246,7 @@ TEST(BallPivoting, HolesWithinTheBoundsAreFilledOverTheirOwnPoints) {
   // A hole about 5 mm across: the 0.8 mm ball cannot bridge it.
   const PointCloud cloud = gridWithHole(21, 2.6e-3);
   BallPivotingParameters params;
-  params.radii = {0.8e-3};
+  params.radii = {Length::metres(0.8e-3)};
   params.close_holes_up_to = 0;
   const BallPivotingResult open = ballPivoting(cloud, params);
   expectWellFormed(open);
@@ -280,7 +280,7 @@ TEST(BallPivoting, LargerHolesAreFilledOnlyWhereTheSurfaceWasSeen) {
   // its points present but without normals (seen, yet kept out of the
   // pivoting, as a noise layer's buried points are).
   BallPivotingParameters params;
-  params.radii = {0.8e-3};
+  params.radii = {Length::metres(0.8e-3)};
   const PointCloud empty = gridWithHole(21, 2.6e-3);
   EXPECT_EQ(ballPivoting(empty, params).report.boundary_loops, 2u);
   PointCloud seen = gridWithHole(21, 0.0);
@@ -309,7 +309,7 @@ TEST(BallPivoting, AnOpenSheetsOuterRimIsNeverCapped) {
   for (const auto& [n, radius] : {std::pair{4, 2e-3}, std::pair{11, 0.8e-3}, std::pair{21, 0.8e-3}}) {
     const PointCloud sheet = gridWithHole(n, 0.0);
     BallPivotingParameters params;
-    params.radii = {radius};
+    params.radii = {Length::metres(radius)};
     const BallPivotingResult r = ballPivoting(sheet, params);
     expectWellFormed(r);
     EXPECT_EQ(r.report.folded_holes, 0u) << n;
@@ -340,7 +340,7 @@ TEST(BallPivoting, SmallComponentsAreTakenOutOnRequest) {
     cloud.normals.push_back(Eigen::Vector3d::UnitZ());
   }
   BallPivotingParameters params;
-  params.radii = {0.8e-3};
+  params.radii = {Length::metres(0.8e-3)};
   const BallPivotingResult all = ballPivoting(cloud, params);
   EXPECT_EQ(all.report.components, 2u);
   EXPECT_EQ(all.report.removed_faces, 0u);
@@ -369,10 +369,10 @@ TEST(BallPivoting, BadInput) {
   cloud.normals.assign(3, Eigen::Vector3d::UnitZ());
   BallPivotingParameters params;
   for (double bad : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
-    params.radii = {bad};
+    params.radii = {Length::metres(bad)};
     EXPECT_THROW(ballPivoting(cloud, params), InputError) << bad;
   }
-  params.radii = {1.0};
+  params.radii = {Length::metres(1.0)};
   PointCloud nan = cloud;
   nan.positions[1].x() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(ballPivoting(nan, params), InputError);

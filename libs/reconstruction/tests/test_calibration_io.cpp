@@ -1,4 +1,4 @@
-#include <icrkit/reconstruction/input/image_files.hpp>
+#include <icrkit/reconstruction/calibration/calibration_images.hpp>
 #include <icrkit/reconstruction/input/rawlog_intrinsics.hpp>
 #include <icrkit/reconstruction/input/rawlog_reader.hpp>
 

@@ -15,7 +15,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_support.hpp"
+#include <test_support.hpp>
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>

@@ -1,11 +1,17 @@
 #include <icrkit/report/grasp_render.hpp>
 
 #include <icrkit/core/error.hpp>
-#include <icrkit/eval/intersection_estimation.hpp>
 #include <icrkit/eval/geodesic_distances.hpp>
+#include <icrkit/eval/grasp_regions.hpp>
+#include <icrkit/eval/intersection_estimation.hpp>
 #include <icrkit/eval/region_quality.hpp>
+#include <icrkit/eval/run_folder.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <tuple>
 
 namespace icrkit::report {
 
@@ -56,6 +62,40 @@ std::vector<LegendEntry> graspMarkerLegend(bool central_points) {
   std::vector<LegendEntry> legend{{kContact, "prototype contact", true}};
   if (central_points) legend.push_back({kCentre, "central point", true});
   return legend;
+}
+
+RegionPicture renderRegionViews(const TriangleMesh& mesh, const std::vector<int>& fingers,
+                                const std::vector<std::vector<int>>& regions, const std::vector<int>& contacts,
+                                const std::vector<RenderCamera>& cameras, const RenderStyle& style, int columns,
+                                bool central_points, const ProgressCallback& progress) {
+  if (fingers.size() != regions.size())
+    throw InputError("regions", "", "expected one finger per region, got " + std::to_string(fingers.size()) +
+                                        " fingers for " + std::to_string(regions.size()) + " regions");
+  RegionPicture picture;
+  picture.central_points =
+      central_points ? regionCentralPoints(mesh, regions) : std::vector<int>(regions.size(), -1);
+  SurfaceColours colours;
+  if (!fingers.empty()) colours.per_vertex = regionColours(mesh, fingers, regions, style.base_colour);
+  const std::vector<Marker> markers = graspMarkers(mesh, contacts, picture.central_points, style.width);
+  const MeshRenderer renderer(mesh);
+  std::vector<RgbImage> views;
+  for (std::size_t i = 0; i < cameras.size(); ++i) {
+    RgbImage view = renderer.render(cameras[i], style, colours, markers);
+    drawCaption(view, cameras[i].name);
+    views.push_back(std::move(view));
+    if (progress) progress("render", i + 1, cameras.size());
+  }
+  const int count = static_cast<int>(cameras.size());
+  picture.columns = columns > 0 ? std::min(columns, count)
+                                : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
+  std::vector<LegendEntry> legend;
+  std::vector<int> sorted = fingers;
+  std::sort(sorted.begin(), sorted.end());
+  for (int finger : sorted) legend.push_back({fingerColour(finger), "finger " + std::to_string(finger), false});
+  if (!contacts.empty() || !fingers.empty())
+    for (const LegendEntry& entry : graspMarkerLegend(central_points && !fingers.empty())) legend.push_back(entry);
+  picture.image = appendLegend(tileImages(views, picture.columns), legend);
+  return picture;
 }
 
 RgbImage renderRegionComparison(const TriangleMesh& cad, const std::vector<std::vector<int>>& cad_regions,
@@ -144,6 +184,30 @@ RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::v
   layout.central_points = params.central_points;
   return renderRegionComparison(cad, cad_regions, cad_contacts, scan, scan_regions, scan_contacts, intersections,
                                 orbitCameras(cad, orbit), style, layout);
+}
+
+std::vector<std::string> writeGraspRenders(const std::string& directory, const eval::DatasetMeshes& meshes,
+                                           const eval::ExperimentConfig& config,
+                                           const std::vector<eval::GraspRecord>& records, int count) {
+  std::vector<std::string> files;
+  const eval::RunFolder folder{directory};
+  int left = count;
+  for (const eval::GraspRecord& record : records) {
+    if (left <= 0) break;
+    if (!record.evaluated || record.dataset != meshes.name) continue;
+    --left;
+    const eval::GraspRegions regions = eval::regrowRegions(meshes, config, record);
+    std::filesystem::create_directories(folder.renders());
+    for (const auto& [label, scan, scan_regions, contacts] :
+         {std::tuple{std::string("filtered"), meshes.filtered, &regions.filtered, &record.filtered.contacts},
+          std::tuple{std::string("raw"), meshes.raw, &regions.raw, &record.raw.contacts}}) {
+      const RgbImage image =
+          renderGraspComparison(*meshes.cad, regions.cad, record.cad_contacts, *scan, *scan_regions, *contacts, label);
+      files.push_back(folder.render(record, label));
+      writePng(files.back(), image);
+    }
+  }
+  return files;
 }
 
 }  // namespace icrkit::report

@@ -88,10 +88,8 @@ std::string inlineSvg(const std::string& svg) {
   return start == std::string::npos ? htmlEscape(svg) : svg.substr(start);
 }
 
-// --- the page's fixed parts are files: libs/report/assets/, embedded at build
-// time (report_assets.hpp) ---------------------------------------------------
-
-// --- sections --------------------------------------------------------------
+// --- sections (the page's fixed parts, its CSS and JavaScript, are files in
+// libs/report/assets/, embedded at build time: report_assets.hpp) -----------
 
 void writeParameters(std::ostringstream& out, const HtmlReportInput& input) {
   out << "<section id=\"parameters\">\n<details open>\n<summary><h2 style=\"display:inline\">Run parameters</h2></summary>\n";

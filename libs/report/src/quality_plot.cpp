@@ -4,6 +4,7 @@
 
 #include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/number_text.hpp>
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -21,14 +22,6 @@ namespace {
 
 using eval::QualityHistogram;
 using eval::QualityHistogramSeries;
-
-// Locale-independent, so the SVG bytes never depend on LC_NUMERIC.
-std::string formatFixed(double value, int decimals) {
-  char buffer[512];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, decimals);
-  if (result.ec != std::errc()) return "0";
-  return std::string(buffer, result.ptr);
-}
 
 // ---------------------------------------------------------------------------
 // The plot as a list of primitives, laid out once and drawn by both the SVG
@@ -261,10 +254,6 @@ cv::Mat renderRaster(const Scene& scene) {
   return image;
 }
 
-void writeText(const std::string& path, const std::string& text) {
-  writeFileAtomically(path, [&](std::ostream& out) { out << text; });
-}
-
 }  // namespace
 
 std::string qualityPlotTitle(const QualityHistogram& histogram, const QualityPlotOptions& options) {
@@ -288,7 +277,7 @@ std::vector<unsigned char> qualityHistogramPng(const QualityHistogram& histogram
 
 void writeQualityHistogramSvg(const std::string& path, const QualityHistogram& histogram,
                               const QualityPlotOptions& options) {
-  writeText(path, qualityHistogramSvg(histogram, options));
+  writeFileAtomically(path, qualityHistogramSvg(histogram, options));
 }
 
 void writeQualityHistogramPng(const std::string& path, const QualityHistogram& histogram,

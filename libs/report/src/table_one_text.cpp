@@ -1,8 +1,8 @@
 #include <icrkit/report/table_one_text.hpp>
 
 #include <icrkit/core/atomic_file.hpp>
+#include <icrkit/core/number_text.hpp>
 
-#include <charconv>
 #include <filesystem>
 #include <sstream>
 
@@ -13,22 +13,6 @@ using eval::PaperTableOneRow;
 using eval::TableOne;
 using eval::TableOneRow;
 using eval::paperTableOneRow;
-
-
-// std::to_chars is locale-independent, so the tables do not change with the
-// user's LC_NUMERIC.
-std::string formatFixed(double value, int decimals) {
-  char buffer[512];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, decimals);
-  if (result.ec != std::errc()) return formatFixed(value, 0);
-  return std::string(buffer, result.ptr);
-}
-
-std::string formatShortest(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
 
 const char* const kUnsetMarkdown = "–";  // en dash, as tables print "no value"
 
@@ -98,10 +82,6 @@ void csvRow(std::ostringstream& out, const TableOneRow& row) {
       << paperValue(&PaperTableOneRow::raw_false_positive_percent) << '\n';
 }
 
-void writeText(const std::string& path, const std::string& text) {
-  writeFileAtomically(path, [&](std::ostream& out) { out << text; });
-}
-
 }  // namespace
 
 std::string tableOneMarkdown(const TableOne& table) {
@@ -130,8 +110,8 @@ std::string tableOneCsv(const TableOne& table) {
   return out.str();
 }
 
-void writeTableOneMarkdown(const std::string& path, const TableOne& table) { writeText(path, tableOneMarkdown(table)); }
-void writeTableOneCsv(const std::string& path, const TableOne& table) { writeText(path, tableOneCsv(table)); }
+void writeTableOneMarkdown(const std::string& path, const TableOne& table) { writeFileAtomically(path, tableOneMarkdown(table)); }
+void writeTableOneCsv(const std::string& path, const TableOne& table) { writeFileAtomically(path, tableOneCsv(table)); }
 void writeResultsTables(const std::string& directory, const std::vector<eval::GraspRecord>& records,
                         const eval::TableOneOptions& options) {
   const std::filesystem::path dir(directory);

@@ -164,10 +164,10 @@ PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& s
 std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::AlignedBox3d& object_bounds) {
   if (params.views <= 0)
     throw InputError("AcquisitionParameters::views", "", "expected at least one view, got " + std::to_string(params.views));
-  if (!std::isfinite(params.distance) || params.distance < 0)
-    throw InputError("AcquisitionParameters::distance", "", "expected a finite distance >= 0 m (0: the setup's default)");
+  if (params.distance && !(std::isfinite(*params.distance) && *params.distance > 0))
+    throw InputError("AcquisitionParameters::distance", "", "expected a finite distance > 0 m (or unset: the setup's default)");
   if (object_bounds.isEmpty()) throw InputError("object", "", "the object has no vertices");
-  const double distance = params.distance > 0 ? params.distance : (params.setup == Setup::A ? 0.6 : 0.7);
+  const double distance = params.distance.value_or(params.setup == Setup::A ? 0.6 : 0.7);
   const Eigen::Vector3d centre = object_bounds.center();
   const PoseErrorModel& e = params.errors;
   for (const double size : {e.noise_translation, e.noise_rotation, e.hand_eye_translation, e.hand_eye_rotation,

@@ -96,7 +96,7 @@ std::string datasetName(const DatasetSpec& spec) {
   return object + "_" + sensorTypeName(spec.sensor) + "_" + setupName(spec.acquisition.setup);
 }
 
-DatasetSummary simulateDataset(const DatasetSpec& spec, const std::string& directory,
+SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& directory,
                                const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path target(directory);
@@ -124,7 +124,7 @@ DatasetSummary simulateDataset(const DatasetSpec& spec, const std::string& direc
     const Scene scene = buildScene(object, spec.acquisition.setup);
     const RayCaster caster(scene.mesh);
 
-    DatasetSummary summary;
+    SimulationReport summary;
     summary.views = views.size();
     summary.object_vertices = object.vertexCount();
     summary.object_faces = object.faces.size();
@@ -172,7 +172,7 @@ DatasetSummary simulateDataset(const DatasetSpec& spec, const std::string& direc
         {"setup", setupName(a.setup)},
         {"views", a.views},
         {"seed", a.seed},
-        {"distance_m", a.distance},
+        {"distance_m", a.distance.value_or(0.0)},  // 0: the setup's default, as manifests have always said
         {"elevation_rad",
          a.setup == Setup::A ? nlohmann::json{a.min_elevation, a.max_elevation} : nlohmann::json(a.elevation)},
         {"pose_errors",

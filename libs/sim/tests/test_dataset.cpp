@@ -86,7 +86,7 @@ TEST_P(SimulatedRecording, UnprojectsOntoTheCadMeshWithinTheNoise) {
   spec.acquisition.setup = spec.sensor == SensorType::Kinect ? sim::Setup::B : sim::Setup::A;
   spec.acquisition.views = 4;
   const fs::path dir = scratch(sensorTypeName(spec.sensor));
-  const DatasetSummary summary = simulateDataset(spec, dir.string());
+  const SimulationReport summary = simulateDataset(spec, dir.string());
   EXPECT_EQ(summary.views, 4u);
   EXPECT_GT(summary.object_pixel_fraction, 0.01);
   for (const char* f : {"scans.rawlog", "ground_truth.txt", "reported_poses.txt", "object.ply", "scene.ply", "manifest.json"})

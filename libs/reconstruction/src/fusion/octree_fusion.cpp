@@ -89,7 +89,7 @@ void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>
   octomap::OcTree& tree = s.tree;
   const bool bounded = !params.bounds.isEmpty();
   const Eigen::Vector3d o = scan.sensor_pose.translation();
-  const double max_range = params.max_range > 0 ? params.max_range : scan.max_range;
+  const double max_range = params.max_range.value_or(scan.max_range);
 
   // The update is OctoMap's insertPointCloud (one update per voxel and
   // scan, a voxel both hit and crossed counts as hit), with the rays clipped

@@ -283,10 +283,11 @@ struct TumFolderReader::Impl {
     }
     if (!(camera.intrinsics.fx > 0))
       throw InputError(
-          folder, "", "no camera intrinsics: give fx, fy, cx, cy (icrkit --intrinsics) or a camera.json in the folder");
-    if (options.camera.depth_scale > 0) {
-      if (!std::isfinite(options.camera.depth_scale)) throw InputError("depth scale", "", "expected a finite number");
-      camera.depth_scale = options.camera.depth_scale;
+          folder, "", "no camera intrinsics: give fx, fy, cx, cy (DepthCameraOptions::intrinsics) or a camera.json in the folder");
+    if (options.camera.depth_scale) {
+      if (!(std::isfinite(*options.camera.depth_scale) && *options.camera.depth_scale > 0))
+        throw InputError("DepthCameraOptions::depth_scale", "", "expected the depth counts per metre (> 0)");
+      camera.depth_scale = *options.camera.depth_scale;
       camera.depth_scale_source = "options";
     } else if (!(camera.depth_scale > 0)) {
       camera.depth_scale = kTumDepthScale;
@@ -409,6 +410,25 @@ const DepthCamera& TumFolderReader::camera() const {
 }
 PoseMatching TumFolderReader::poseMatching() const {
   return impl_->poses.matching;
+}
+
+std::string depthCameraRecordJson(const DepthCamera& camera) {
+  const CameraIntrinsics& k = camera.intrinsics;
+  const nlohmann::json record{
+      {"width", k.width},
+      {"height", k.height},
+      {"fx", k.fx},
+      {"fy", k.fy},
+      {"cx", k.cx},
+      {"cy", k.cy},
+      {"distortion_k1_k2_p1_p2_k3", k.distortion},
+      {"intrinsics_source", camera.intrinsics_from_options ? std::string("options") : camera.camera_file},
+      {"depth_scale", camera.depth_scale},
+      {"depth_scale_source", camera.depth_scale_source == "camera file" ? camera.camera_file
+                             : camera.depth_scale_source == "default"   ? std::string("default (TUM)")
+                                                                        : camera.depth_scale_source},
+      {"max_range_m", camera.max_range}};
+  return record.dump();
 }
 
 }  // namespace icrkit::reconstruction

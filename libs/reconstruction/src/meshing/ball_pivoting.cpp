@@ -814,24 +814,22 @@ Spacing spacingOf(std::vector<double> nearest) {
   return s;
 }
 
+bool anyRelative(const std::vector<Length>& radii) {
+  return std::any_of(radii.begin(), radii.end(), [](const Length& r) { return r.relative; });
+}
+
 std::vector<double> radiiFor(const BallPivotingParameters& params, const Spacing& spacing_stats) {
   const double spacing = spacing_stats.median;
-  std::vector<double> radii = params.radii;
-  if (radii.empty()) {
-    if (params.radius_factors.empty())
-      throw InputError("BallPivotingParameters::radius_factors", "", "give radii in metres or as multiples of the median spacing");
-    if (!(spacing > 0.0))
-      throw InputError("BallPivotingParameters::radius_factors", "",
-                       "the median point spacing is 0 (more than half the points are duplicates); give radii in "
-                       "metres");
-    for (double f : params.radius_factors) {
-      if (!std::isfinite(f) || !(f > 0.0))
-        throw InputError("BallPivotingParameters::radius_factors", "", "a radius factor must be finite and > 0, got " + std::to_string(f));
-      radii.push_back(f * spacing);
-    }
-    const double gap = params.gap_radius_factor * spacing_stats.p90;
-    if (params.gap_radius_factor > 0.0 && std::isfinite(gap) && gap > 3.0 * spacing) radii.push_back(gap);
-  }
+  const bool relative = anyRelative(params.radii);
+  if (relative && !(spacing > 0.0))
+    throw InputError("BallPivotingParameters::radii", "",
+                     "the median point spacing is 0 (more than half the points are duplicates); give radii in "
+                     "metres");
+  std::vector<double> radii;
+  for (const Length& r : params.radii) radii.push_back(r.metresFor(spacing));
+  const bool all_relative = std::all_of(params.radii.begin(), params.radii.end(), [](const Length& r) { return r.relative; });
+  const double gap = params.gap_radius_factor * spacing_stats.p90;
+  if (all_relative && params.gap_radius_factor > 0.0 && std::isfinite(gap) && gap > 3.0 * spacing) radii.push_back(gap);
   for (double r : radii)
     if (!std::isfinite(r) || !(r > 0.0))
       throw InputError("BallPivotingParameters::radii", "", "a radius must be finite and > 0 m, got " + std::to_string(r));
@@ -843,14 +841,32 @@ std::vector<double> radiiFor(const BallPivotingParameters& params, const Spacing
 }  // namespace
 
 std::vector<double> ballPivotingRadii(const PointCloud& cloud, const BallPivotingParameters& params) {
-  return radiiFor(params, params.radii.empty() ? spacingOf(nearestNeighbourDistances(cloud.positions)) : Spacing{});
+  params.validate();
+  return radiiFor(params, anyRelative(params.radii) ? spacingOf(nearestNeighbourDistances(cloud.positions)) : Spacing{});
+}
+
+void BallPivotingParameters::validate() const {
+  const auto finite_non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
+  if (radii.empty()) throw InputError("BallPivotingParameters::radii", "", "give at least one radius");
+  for (const Length& r : radii)
+    if (!r.valid())
+      throw InputError("BallPivotingParameters::radii", "", "a radius must be finite and > 0, got " + formatLength(r));
+  if (!finite_non_negative(gap_radius_factor))
+    throw InputError("BallPivotingParameters::gap_radius_factor", "", "expected a finite factor >= 0 (0 = never)");
+  if (duplicate_distance && !finite_non_negative(*duplicate_distance))
+    throw InputError("BallPivotingParameters::duplicate_distance", "", "expected a finite distance >= 0 in metres");
+  if (!finite_non_negative(thinning_factor))
+    throw InputError("BallPivotingParameters::thinning_factor", "", "expected a finite factor >= 0 (0 = off)");
+  if (!finite_non_negative(hole_perimeter_factor))
+    throw InputError("BallPivotingParameters::hole_perimeter_factor", "", "expected a finite factor >= 0");
+  if (!finite_non_negative(folded_hole_max_share))
+    throw InputError("BallPivotingParameters::folded_hole_max_share", "", "expected a finite share >= 0");
 }
 
 BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParameters& params) {
+  params.validate();
   validateInput(cloud);
-  double duplicate_distance = params.duplicate_distance;
-  if (!std::isfinite(duplicate_distance)) throw InputError("duplicate_distance", "", "must be finite");
-  if (duplicate_distance < 0.0) duplicate_distance = 1e-9 * cloud.bounds().diagonal().norm();
+  const double duplicate_distance = params.duplicate_distance.value_or(1e-9 * cloud.bounds().diagonal().norm());
   const std::vector<std::uint32_t> order = mortonOrder(cloud.positions);
   BallPivoter pivoter(cloud, order, params);
   const std::vector<double> nearest = nearestNeighbourDistances(pivoter.positions());
@@ -866,8 +882,6 @@ BallPivotingResult ballPivoting(const PointCloud& cloud, const BallPivotingParam
   report.unoriented_points = pivoter.unorientedPoints();
   Spacing mesh_spacing = spacing_stats;
   std::vector<std::size_t> thinned;  // input indices
-  if (!std::isfinite(params.thinning_factor) || params.thinning_factor < 0.0)
-    throw InputError("thinning_factor", "", "must be finite and >= 0");
   if (params.thinning_factor > 0.0 && spacing > 0.0) {
     report.layer_thickness = layerThickness(pivoter.positions(), pivoter.skipped(), kThicknessWindow * spacing);
     const double cell = params.thinning_factor * report.layer_thickness;

@@ -37,8 +37,8 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
   start = Clock::now();
   PointCloud smoothed = cloud;
   ndt::SmoothingParameters smoothing = params.smoothing;
-  if (!(smoothing.radius > 0) && params.reference_spacing > 0)
-    smoothing.radius = smoothing.radius_factor * params.reference_spacing;
+  if (smoothing.radius.relative && params.reference_spacing && *params.reference_spacing > 0)
+    smoothing.radius = Length::metres(smoothing.radius.metresFor(*params.reference_spacing));
   out.smoothing = ndt::smoothPointCloud(smoothed, smoothing, [&](const std::string&, std::size_t d, std::size_t t) {
     report(progress, "smoothing", d, t);
   });

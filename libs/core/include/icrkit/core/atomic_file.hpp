@@ -15,4 +15,7 @@ namespace icrkit {
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write,
                          bool binary = true);
 
+/// writeFileAtomically for a file whose whole content is `contents`.
+void writeFileAtomically(const std::string& path, const std::string& contents);
+
 }  // namespace icrkit

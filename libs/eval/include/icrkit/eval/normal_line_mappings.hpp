@@ -42,18 +42,24 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace icrkit::eval {
 
 struct MappingParameters {
-  /// Radius (metres) around the line's crossing within which target vertices
-  /// compete; 0 = twice the target's median edge length.
-  double neighbourhood_radius = 0.0;
+  /// Radius (metres, finite and > 0) around the line's crossing within
+  /// which target vertices compete; unset: twice the target's median edge
+  /// length.
+  std::optional<double> neighbourhood_radius;
   /// Crossings and nearest surface points farther than this (metres) from the
   /// mapped point are ignored: a reconstruction lies within millimetres of
   /// the CAD surface, the far side of a graspable object is centimetres away.
   double max_line_distance = 0.01;
+
+  /// Throws InputError naming the field ("MappingParameters::max_line_distance",
+  /// "MappingParameters::neighbourhood_radius") for a length out of range.
+  void validate() const;
 };
 
 struct VertexImage {

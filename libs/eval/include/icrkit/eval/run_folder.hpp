@@ -32,7 +32,13 @@ struct RunFolder {
   std::string reconstructionDir(const std::string& dataset) const;  ///< DIR/reconstructions/NAME
   std::string rawMesh(const std::string& dataset) const;            ///< .../raw.ply
   std::string filteredMesh(const std::string& dataset) const;       ///< .../filtered.ply
+  /// DIR/renders/DATASET_<F>fingers_grasp<I>_<label>.png: the Fig. 6
+  /// picture of one grasp against the `label` ("filtered", "raw") mesh.
+  std::string render(const GraspRecord& record, const std::string& label) const;
 };
+
+/// The name every render of `record` starts with: "DATASET_<F>fingers_grasp<I>_".
+std::string renderStem(const GraspRecord& record);
 
 /// run.json's "config": `config` as compact JSON (sorted keys). "patch" only
 /// when the patch study runs, so that other runs keep their form.

@@ -27,9 +27,9 @@
 namespace icrkit::eval {
 
 struct SensitivityParameters {
-  /// Poisson-disk spacing of the sample (metres); <= 0: 1/150 of the CAD
-  /// mesh's bounding-box diagonal.
-  double spacing_m = 0.0;
+  /// Poisson-disk spacing of the sample (metres, finite and > 0); unset:
+  /// 1/150 of the CAD mesh's bounding-box diagonal.
+  std::optional<double> spacing_m;
   /// Noise standard deviations along the normal, in multiples of the spacing.
   std::vector<double> noise_levels{0.0, 0.25, 0.5, 1.0};
   /// Sampling and noise; level i draws its noise with seed * 1000 + i.
@@ -68,7 +68,7 @@ double sensitivitySpacing(const TriangleMesh& cad, const SensitivityParameters& 
 PointCloud sensitivitySample(const TriangleMesh& cad, const SensitivityParameters& params);
 PointCloud addNormalNoise(const PointCloud& sample, double sigma_m, std::uint64_t seed);
 
-struct SensitivityLevelInfo {
+struct SensitivityLevelReport {
   double noise_level = 0.0;  ///< multiple of the spacing
   double sigma_m = 0.0;
   std::size_t sample_points = 0;
@@ -78,10 +78,12 @@ struct SensitivityLevelInfo {
   bool built = false;  ///< false when this shard had no work on the level
   double build_ms = 0.0, evaluate_ms = 0.0;
 };
+/// The name before outcome structs were called "...Report" (issue 20).
+using SensitivityLevelInfo [[deprecated("use SensitivityLevelReport")]] = SensitivityLevelReport;
 
 struct SensitivityResult {
   double spacing_m = 0.0;
-  std::vector<SensitivityLevelInfo> levels;
+  std::vector<SensitivityLevelReport> levels;
   std::vector<GraspRecord> records;
 };
 

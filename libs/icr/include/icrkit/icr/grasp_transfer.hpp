@@ -13,14 +13,16 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <vector>
 
 namespace icrkit::icr {
 
 struct NormalLineMappingParameters {
-  /// Candidates are the target vertices within this distance of p (metres);
-  /// 0 = ten times the median spacing of the competing target vertices.
-  double search_radius = 0.0;
+  /// Candidates are the target vertices within this distance of p (metres,
+  /// finite and > 0); unset: ten times the median spacing of the competing
+  /// target vertices.
+  std::optional<double> search_radius;
 };
 
 class NormalLineMapping {

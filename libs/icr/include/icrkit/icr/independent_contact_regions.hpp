@@ -22,10 +22,12 @@ enum class GrowthMode {
 
 struct IcrParameters {
   ContactModel contact_model;
-  /// TWS: an absolute ball radius when > 0, else alpha * epsilon (alpha in (0, 1]);
-  /// `tws_wrenches`, when set, replaces the ball by their convex hull.
+  /// TWS: a ball of radius alpha * epsilon of the prototype (alpha in
+  /// (0, 1]), or of the absolute radius `tws_radius` when that is set
+  /// (finite, >= 0); `tws_wrenches`, when set, replaces the ball by their
+  /// convex hull.
   double alpha = 0.5;
-  double tws_radius = 0.0;
+  std::optional<double> tws_radius;
   std::optional<WrenchSet> tws_wrenches;
   GrowthMode mode = GrowthMode::BreadthFirst;
   HullParameters hull;

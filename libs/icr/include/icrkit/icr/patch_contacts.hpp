@@ -35,7 +35,7 @@ struct PatchParameters {
   /// every vertex of the connected piece.
   bool filter_border = true;
 
-  /// Throws InputError (source "patch parameters", location the field) on a
+  /// Throws InputError (source "PatchParameters::radius_m") on a
   /// radius that is not finite or not > 0.
   void validate() const;
 };

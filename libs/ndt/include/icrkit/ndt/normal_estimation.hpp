@@ -4,6 +4,7 @@
 /// the normal is the eigenvector of the smallest eigenvalue (v3) of the
 /// covariance of the points within a radius, oriented consistently.
 
+#include <icrkit/core/length.hpp>
 #include <icrkit/core/point_cloud.hpp>
 
 #include <Eigen/Core>
@@ -15,10 +16,9 @@
 namespace icrkit::ndt {
 
 struct NormalEstimationParameters {
-  /// Window radius in metres; when <= 0, `radius_factor` times the median
-  /// nearest-neighbour spacing.
-  double radius = 0.0;
-  double radius_factor = 3.0;
+  /// Window radius: metres, or a multiple of the median nearest-neighbour
+  /// spacing (default 3 spacings). Finite and > 0.
+  Length radius = Length::spacings(3.0);
   /// A window with fewer points than this uses the k nearest points
   /// instead (k = min_neighbours), so isolated points still get a normal.
   std::size_t min_neighbours = 8;
@@ -31,12 +31,14 @@ struct NormalEstimationParameters {
   std::vector<Eigen::Vector3d> viewpoints;
 };
 
-struct NormalEstimationSummary {
+struct NormalEstimationReport {
   std::size_t points = 0;
   double radius_m = 0.0;
   std::size_t small_windows = 0;  ///< points that fell back to the k nearest
   std::size_t flipped = 0;        ///< normals turned by the orientation step
 };
+/// The name before outcome structs were called "...Report" (issue 20).
+using NormalEstimationSummary [[deprecated("use NormalEstimationReport")]] = NormalEstimationReport;
 
 /// Replaces the cloud's normals by estimated unit normals and adds their
 /// uncertainty as the attributes `normal_sigma` (float, radians) and
@@ -44,6 +46,6 @@ struct NormalEstimationSummary {
 /// since it is not moved; fit_uncertainty.hpp). Throws InputError
 /// for fewer than 3 points, a non-finite coordinate (naming the point) or a
 /// radius that is not positive. Parallel and deterministic.
-NormalEstimationSummary estimateNormals(PointCloud& cloud, const NormalEstimationParameters& params = {});
+NormalEstimationReport estimateNormals(PointCloud& cloud, const NormalEstimationParameters& params = {});
 
 }  // namespace icrkit::ndt

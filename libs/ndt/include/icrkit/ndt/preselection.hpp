@@ -45,8 +45,8 @@ enum class PreselectionRule { Robust, PaperMean, None };
 /// "default", "paper-mean", "none".
 const char* preselectionRuleName(PreselectionRule rule);
 /// Parses those names (and "robust" for "default"); InputError naming
-/// `option` otherwise.
-PreselectionRule parsePreselectionRule(const std::string& name, const std::string& option = "--preselection");
+/// `source` otherwise.
+PreselectionRule parsePreselectionRule(const std::string& name, const std::string& source = "PreselectionParameters::rule");
 /// The rules in the order reports list them: default, paper-mean, none.
 std::vector<PreselectionRule> allPreselectionRules();
 
@@ -73,9 +73,14 @@ struct PreselectionParameters {
   double min_cardinality = 6.0;
   /// The cardinality threshold never exceeds this fraction of the median.
   double boundary_fraction = 0.5;
+
+  /// Throws InputError naming the field ("PreselectionParameters::flatness_threshold",
+  /// ...) for an explicit threshold that is not finite and >= 0 or a default
+  /// rule parameter out of range. preselect() calls it first.
+  void validate() const;
 };
 
-struct PreselectionSummary {
+struct PreselectionReport {
   PreselectionRule rule = PreselectionRule::Robust;
   std::size_t points = 0;
   double mean_cardinality = 0.0;
@@ -91,10 +96,12 @@ struct PreselectionSummary {
   std::size_t excluded_flatness_only = 0;
   std::size_t excluded_both = 0;
 };
+/// The name before outcome structs were called "...Report" (issue 20).
+using PreselectionSummary [[deprecated("use PreselectionReport")]] = PreselectionReport;
 
 struct Preselection {
   std::vector<std::uint8_t> excluded;  ///< one 0/1 flag per point
-  PreselectionSummary summary;
+  PreselectionReport summary;
 };
 
 /// Decides every point from its cardinality and flatness (equal lengths;
@@ -106,7 +113,7 @@ Preselection preselect(const std::vector<double>& cardinality, const std::vector
 /// (a smoothed cloud, or a mesh whose vertices are one) and writes the
 /// `excluded` flags (uchar); with rule none the flags are all 0. InputError
 /// naming `source` when an attribute is missing or has the wrong length.
-PreselectionSummary applyPreselection(AttributeSet& attributes, std::size_t count, const PreselectionParameters& params,
+PreselectionReport applyPreselection(AttributeSet& attributes, std::size_t count, const PreselectionParameters& params,
                                       const std::string& source);
 
 }  // namespace icrkit::ndt

@@ -14,6 +14,7 @@
 /// flatness F = sqrt(l2 / l3) of the first pass's windows, by the rule of
 /// `SmoothingParameters::preselection` (default: the robust rule).
 
+#include <icrkit/core/length.hpp>
 #include <icrkit/core/point_cloud.hpp>
 #include <icrkit/core/progress.hpp>
 #include <icrkit/ndt/preselection.hpp>
@@ -27,10 +28,9 @@
 namespace icrkit::ndt {
 
 struct SmoothingParameters {
-  /// Window radius r in metres; when <= 0, `radius_factor` times the median
-  /// nearest-neighbour spacing of the input.
-  double radius = 0.0;
-  double radius_factor = 4.0;
+  /// Window radius r: metres, or a multiple of the median nearest-neighbour
+  /// spacing of the input (default 4 spacings). Finite and > 0.
+  Length radius = Length::spacings(4.0);
   /// k passes; each recomputes the windows from the previous pass's output.
   /// Preselection uses the statistics of the first pass (the measured data).
   int passes = 1;
@@ -53,9 +53,15 @@ struct SmoothingParameters {
   /// keeps and is kept by every window. >= pi (default): every point of the
   /// radius, the paper's window.
   double max_normal_angle = M_PI;
+
+  /// Throws InputError naming the field ("SmoothingParameters::passes",
+  /// "PreselectionParameters::flatness_threshold", ...) for a value out of
+  /// range. smoothPointCloud() calls it first; callers may call it before
+  /// reading a large cloud.
+  void validate() const;
 };
 
-struct SmoothingSummary {
+struct SmoothingReport {
   std::size_t points = 0;
   double radius_m = 0.0;
   double median_spacing_m = 0.0;  ///< 0 when the radius was given in metres (not measured)
@@ -63,11 +69,13 @@ struct SmoothingSummary {
   std::size_t small_windows = 0;  ///< windows with fewer than 3 points: left unchanged
   /// Statistics of the first pass's windows and what the rule made of them
   /// (means and medians also with rule none).
-  PreselectionSummary preselection;
+  PreselectionReport preselection;
   double mean_displacement_m = 0.0;
   double max_displacement_m = 0.0;
   double time_ms = 0.0;
 };
+/// The name before outcome structs were called "...Report" (issue 20).
+using SmoothingSummary [[deprecated("use SmoothingReport")]] = SmoothingReport;
 
 /// Smooths `cloud` in place and adds the per-point attributes `cardinality`
 /// (int), `flatness` (float), `displacement` (float, metres, total over the
@@ -79,7 +87,7 @@ struct SmoothingSummary {
 /// by the v3 estimates of the last pass (a point whose window holds fewer
 /// than 3 points keeps its input normal, or gets none when the cloud had none). Throws InputError for an empty
 /// cloud, a non-finite coordinate (naming the point), r <= 0 or passes < 1.
-SmoothingSummary smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params = {},
+SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params = {},
                                   const ProgressCallback& progress = {});
 
 /// Flatness sqrt(l2 / max(l3, floor * l2)); 0 when l2 = 0 (the window is a

@@ -86,12 +86,12 @@ struct ReconstructionParameters {
 
   /// Fusion; its `bounds` are replaced by the crop box.
   OctreeFusionParameters fusion;
-  /// Normals of the fused cloud, each facing its own view's sensor; with
-  /// radius <= 0 the window is radius_factor (3) times the spacing of a
-  /// single scan, for the reason given at `smoothing`.
+  /// Normals of the fused cloud, each facing its own view's sensor; a
+  /// radius relative to the spacing (default 3 spacings) is taken of a
+  /// single scan's spacing, for the reason given at `smoothing`.
   ndt::NormalEstimationParameters normals;
-  /// Smoothing: with radius <= 0 the window is radius_factor times the
-  /// spacing of a single scan (median nearest-neighbour distance of the
+  /// Smoothing: a radius relative to the spacing (default 4 spacings) is
+  /// taken of the spacing of a single scan (median nearest-neighbour distance of the
   /// first scan's object points), not of the fused cloud: many overlapping
   /// views make the fused cloud far denser than its noise is thin, and a
   /// window of a few fused spacings would not reach across the noise.
@@ -188,18 +188,23 @@ struct ReconstructionResult {
   /// `viewpoint_x/y/z`.
   PointCloud cloud;
   OctreeFusionReport fusion;
-  ndt::NormalEstimationSummary normals;
+  ndt::NormalEstimationReport normals;
   TriangleMesh raw_mesh;
   BallPivotingReport raw_meshing;
   /// The filtered mesh: smoothed positions, v3 normals facing the views,
   /// and the attributes `cardinality`, `flatness`, `displacement`,
   /// `excluded`.
   TriangleMesh filtered_mesh;
-  ndt::SmoothingSummary smoothing;
+  ndt::SmoothingReport smoothing;
   BallPivotingReport filtered_meshing;
   std::size_t dropped_excluded = 0;  ///< with mesh_kept_points_only
   ReconstructionTimes times;
 };
+
+/// Checks the values reconstructRawlog takes before the long run: throws
+/// InputError naming the field (e.g. "OctreeFusionParameters::resolution",
+/// "ReconstructionParameters::auto_crop_half_size") and what was expected.
+void validateReconstructionParameters(const ReconstructionParameters& params);
 
 /// Runs the pipeline on a rawlog or a TUM RGB-D folder (ScanReader).
 /// Throws InputError naming the file and the scan for unreadable input (the

@@ -9,6 +9,7 @@
 
 #include <icrkit/core/progress.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
+#include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/intersection_estimation.hpp>
 #include <icrkit/report/mesh_render.hpp>
 
@@ -37,6 +38,24 @@ std::vector<Marker> graspMarkers(const TriangleMesh& mesh, const std::vector<int
 
 /// Legend entries of those dots (contacts; central points when asked).
 std::vector<LegendEntry> graspMarkerLegend(bool central_points);
+
+/// The regions picture of one mesh (`icrkit render` without --compare).
+struct RegionPicture {
+  RgbImage image;
+  std::vector<int> central_points;  ///< per region, -1 when empty or not marked
+  int columns = 0;                  ///< views per row, as tiled
+};
+
+/// Views of `mesh` from `cameras`, each captioned with its camera's name:
+/// regions[n] coloured as finger fingers[n] (fingerColour), the prototype
+/// `contacts` and (with `central_points`) each region's geodesic central
+/// point as dots; tiled `columns` per row (<= 0: about square), then a
+/// legend (the fingers in ascending order, then the dots when there are
+/// contacts or regions). Progress: "render", one step per view.
+RegionPicture renderRegionViews(const TriangleMesh& mesh, const std::vector<int>& fingers,
+                                const std::vector<std::vector<int>>& regions, const std::vector<int>& contacts,
+                                const std::vector<RenderCamera>& cameras, const RenderStyle& style, int columns,
+                                bool central_points, const ProgressCallback& progress = {});
 
 /// How a comparison picture is laid out.
 struct ComparisonLayout {
@@ -72,5 +91,13 @@ RgbImage renderGraspComparison(const TriangleMesh& cad, const std::vector<std::v
                                const std::vector<std::vector<int>>& scan_regions,
                                const std::vector<int>& scan_contacts, const std::string& scan_label,
                                const GraspRenderParameters& params = {});
+
+/// The Fig. 6 pictures (CAD vs filtered, CAD vs raw) of the first `count`
+/// evaluated records of `meshes` (regions regrown: eval::regrowRegions),
+/// written to eval::RunFolder{directory}.render(record, label); returns the
+/// files in the order written.
+std::vector<std::string> writeGraspRenders(const std::string& directory, const eval::DatasetMeshes& meshes,
+                                           const eval::ExperimentConfig& config,
+                                           const std::vector<eval::GraspRecord>& records, int count);
 
 }  // namespace icrkit::report

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <string>
+#include <optional>
 #include <vector>
 
 namespace icrkit::sim {
@@ -71,10 +72,10 @@ PoseErrorModel parsePoseErrorModel(const std::string& text, const std::string& s
 struct AcquisitionParameters {
   Setup setup = Setup::B;
   int views = 36;
-  /// Distance from the camera to the object's bounding-box centre (m);
-  /// <= 0: the setup's default (A: 0.6 m, B: 0.7 m, inside both sensors'
-  /// ranges with the object filling a good part of the image).
-  double distance = 0.0;
+  /// Distance from the camera to the object's bounding-box centre (m,
+  /// finite and > 0); unset: the setup's default (A: 0.6 m, B: 0.7 m, inside
+  /// both sensors' ranges with the object filling a good part of the image).
+  std::optional<double> distance;
   /// Setup A: the partial sphere spans these elevations (radians above the
   /// horizontal plane through the object's centre), views on a spiral.
   double min_elevation = 0.15, max_elevation = 0.9;

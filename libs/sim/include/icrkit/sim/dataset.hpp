@@ -37,7 +37,19 @@ std::vector<DatasetSpec> paperDatasets();
 /// "cup_kinect_B", "wooden_toy_1_sr4000_A", ...
 std::string datasetName(const DatasetSpec& spec);
 
-struct DatasetSummary {
+/// The paper datasets of these names, in the order given (all nine when
+/// `names` is empty). InputError("dataset names", "", "unknown dataset
+/// 'NAME' ...") for a name that is none of them.
+std::vector<DatasetSpec> paperDatasets(const std::vector<std::string>& names);
+
+/// The folder of a dataset simulated under the pose-error model given as
+/// `pose_error` (its text form, parsePoseErrorModel): the dataset's name
+/// for the paper's "arm", else the name and the model's text, lower case,
+/// commas as underscores (cup_kinect_B_mobile, cup_kinect_B_5mm_1deg), so
+/// that recordings under several models share one output folder.
+std::string datasetFolderName(const DatasetSpec& spec, const std::string& pose_error);
+
+struct SimulationReport {
   std::string directory;
   std::size_t views = 0;
   std::size_t object_vertices = 0, object_faces = 0;
@@ -45,13 +57,25 @@ struct DatasetSummary {
   double object_pixel_fraction = 0.0;  ///< pixels whose true surface is the object
   double time_ms = 0.0;
 };
+/// The name before outcome structs were called "...Report" (issue 20).
+using DatasetSummary [[deprecated("use SimulationReport")]] = SimulationReport;
 
 /// Simulates and writes the recording into `directory` (created; an
 /// existing folder is only replaced when it holds an earlier simulation,
 /// i.e. a manifest.json). Everything is written into a temporary sibling
 /// folder first and renamed into place at the end. Throws InputError for an
 /// unknown object, unreadable mesh, bad parameters or an unwritable folder.
-DatasetSummary simulateDataset(const DatasetSpec& spec, const std::string& directory,
+SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& directory,
                                const ProgressCallback& progress = {});
+
+/// What was simulated, as the JSON object `icrkit simulate` prints (keys
+/// sorted): name, directory, object (its name or mesh file), sensor, setup,
+/// views, seed, pose_error, object_vertices, valid_pixel_fraction,
+/// object_pixel_fraction, files, time_ms.
+std::string datasetRecordJson(const DatasetSpec& spec, const SimulationReport& summary);
+
+/// The paper's nine datasets as {"datasets": [{name, object, sensor, setup,
+/// views, seed}, ...]} (JSON text, keys sorted).
+std::string paperDatasetsJson();
 
 }  // namespace icrkit::sim

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace icrkit::reconstruction {
@@ -27,8 +28,8 @@ struct OctreeFusionParameters {
   /// Voxel edge (metres). A few times the sensor's noise: finer voxels let
   /// neighbouring rays of another view carve real, noisy surface.
   double resolution = 0.004;
-  /// Rays are cut at this length (metres); <= 0: each scan's max_range.
-  double max_range = 0.0;
+  /// Rays are cut at this length (metres, > 0); unset: each scan's max_range.
+  std::optional<double> max_range;
   /// Only this region is updated (object frame); an empty box: no limit.
   /// Rays are clipped to it, so points outside still carve the space their
   /// rays cross inside it: pass whole scans, not cropped ones. Points

@@ -50,9 +50,9 @@ struct DepthCameraOptions {
   /// ignored: they come from the images). Replaces the camera file's whole
   /// lens model. Unset: the camera file's.
   std::optional<CameraIntrinsics> intrinsics;
-  /// Depth counts per metre (1000: millimetres). <= 0: the camera file's,
-  /// else kTumDepthScale.
-  double depth_scale = 0.0;
+  /// Depth counts per metre (1000: millimetres; finite and > 0). Unset: the
+  /// camera file's, else kTumDepthScale.
+  std::optional<double> depth_scale;
   /// The camera file (JSON, below). Empty: FOLDER/camera.json when present.
   std::string camera_file;
 };
@@ -67,6 +67,13 @@ struct DepthCamera {
   /// "options", "camera file" or "default" (kTumDepthScale).
   std::string depth_scale_source;
 };
+
+/// `camera` as the JSON object reconstruction.json records (keys sorted):
+/// width, height, fx, fy, cx, cy, distortion_k1_k2_p1_p2_k3,
+/// intrinsics_source ("options" or the camera file), depth_scale,
+/// depth_scale_source ("options", the camera file or "default (TUM)"),
+/// max_range_m.
+std::string depthCameraRecordJson(const DepthCamera& camera);
 
 /// How poses were assigned to the frames.
 enum class PoseMatching {

@@ -8,33 +8,34 @@
 /// advancing front until it touches the next point. Several increasing radii
 /// close the gaps that a small ball falls through, as in the original paper.
 
+#include <icrkit/core/length.hpp>
 #include <icrkit/core/point_cloud.hpp>
 #include <icrkit/core/triangle_mesh.hpp>
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 namespace icrkit::reconstruction {
 
 struct BallPivotingParameters {
-  /// Ball radii in metres. Empty: `radius_factors` times the median
-  /// nearest-neighbour spacing of the points. Sorted ascending and made
-  /// unique before use; each must be finite and > 0.
-  std::vector<double> radii;
-  /// Used when `radii` is empty: radii = factor x the median
-  /// nearest-neighbour spacing. The defaults follow the detail of an evenly
-  /// sampled surface (a scanner's grid, a mesh's vertices) and close its
-  /// gaps without capping real holes (see docs/meshing.md).
-  std::vector<double> radius_factors = {1.5, 2.5};
-  /// With automatic radii, one more radius of this factor x the 90th
-  /// percentile of the nearest-neighbour distances is added when it exceeds
-  /// 3 median spacings: unevenly sampled clouds (random samples, scans with
-  /// sparse parts) have gaps several spacings wide. 0 = never.
+  /// Ball radii: metres, or multiples of the median nearest-neighbour
+  /// spacing of the points. Resolved, sorted ascending and made unique
+  /// before use; each finite and > 0. The default, 1.5 and 2.5 spacings,
+  /// follows the detail of an evenly sampled surface (a scanner's grid, a
+  /// mesh's vertices) and closes its gaps without capping real holes (see
+  /// docs/meshing.md).
+  std::vector<Length> radii = {Length::spacings(1.5), Length::spacings(2.5)};
+  /// When every radius is relative, one more radius of this factor x the
+  /// 90th percentile of the nearest-neighbour distances is added when it
+  /// exceeds 3 median spacings: unevenly sampled clouds (random samples,
+  /// scans with sparse parts) have gaps several spacings wide. 0 = never.
   double gap_radius_factor = 2.2;
-  /// Points closer than this to an earlier point (metres) are duplicates:
-  /// only the first one of each group can become a vertex, the others are
-  /// reported as unused. Negative: 1e-9 times the bounding-box diagonal.
-  double duplicate_distance = -1.0;
+  /// Points closer than this to an earlier point (metres, >= 0) are
+  /// duplicates: only the first one of each group can become a vertex, the
+  /// others are reported as unused. Unset: 1e-9 times the bounding-box
+  /// diagonal.
+  std::optional<double> duplicate_distance;
   /// At most this many nearest neighbours of a candidate seed point are
   /// paired when a seed triangle is searched (bounds the quadratic cost at
   /// points that can never seed, such as isolated outliers).
@@ -97,6 +98,12 @@ struct BallPivotingParameters {
   /// default: a general mesher does not judge what is noise;
   /// `icrkit reconstruct` sets it for fused clouds).
   std::size_t min_component_faces = 0;
+
+  /// Throws InputError naming the field ("BallPivotingParameters::radii",
+  /// "BallPivotingParameters::thinning_factor", ...) for a radius, factor or
+  /// distance that is not finite or out of range. ballPivoting() calls it
+  /// first; callers may call it before reading a large cloud.
+  void validate() const;
 };
 
 /// Per-radius statistics, in the order the radii were used.

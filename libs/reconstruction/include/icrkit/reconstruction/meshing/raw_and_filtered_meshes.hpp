@@ -14,16 +14,17 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <vector>
 
 namespace icrkit::reconstruction {
 
 struct RawAndFilteredParameters {
-  /// Smoothing and preselection (with its rule); a radius <= 0 is
-  /// `radius_factor` times `reference_spacing` when that is set, else times
-  /// the cloud's own median spacing.
+  /// Smoothing and preselection (with its rule); a radius relative to the
+  /// spacing is taken of `reference_spacing` (metres) when that is set and
+  /// > 0, else of the cloud's own median spacing.
   ndt::SmoothingParameters smoothing;
-  double reference_spacing = 0.0;
+  std::optional<double> reference_spacing;
   /// Ball pivoting of both clouds.
   BallPivotingParameters meshing;
   /// false: the raw mesh keeps its noise layer unthinned and its folded
@@ -48,7 +49,7 @@ struct RawAndFilteredMeshes {
   /// Smoothed positions, v3 normals, the attributes `cardinality`,
   /// `flatness`, `displacement` and `excluded` (unless the rule is none).
   TriangleMesh filtered;
-  ndt::SmoothingSummary smoothing;
+  ndt::SmoothingReport smoothing;
   BallPivotingReport filtered_meshing;
   std::size_t dropped_excluded = 0;  ///< with mesh_kept_points_only
   RawAndFilteredTimes times;
