@@ -38,5 +38,4 @@ std::string lowercaseExtension(const std::string& path);
 /// "x,y,z" in metres.
 Eigen::Vector3d parsePoint(const std::string& option, const std::string& text);
 
-
 }  // namespace icrkit::app

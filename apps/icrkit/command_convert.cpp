@@ -140,7 +140,8 @@ void addConvertCommand(CLI::App& app, CommandRunner& runner) {
   command->add_flag("--big-endian", options->big_endian, "Binary big-endian PLY");
   command->callback([&runner, options] {
     runner = [options](CommandContext& context) {
-      context.mapFields({{"DepthCameraOptions::depth_scale", "--depth-scale"}, {"DepthCameraOptions::intrinsics", "--intrinsics"}});
+      context.mapFields(
+          {{"DepthCameraOptions::depth_scale", "--depth-scale"}, {"DepthCameraOptions::intrinsics", "--intrinsics"}});
       context.emit(convert(*options, context));
     };
   });

@@ -91,7 +91,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   std::vector<std::string>& files = written.files;
   const double render_start = context.elapsedMs();
   for (const std::string& f : report::writeGraspRenders(o.output, eval::DatasetMeshes{name, &cad, &raw, &filtered},
-                                                       config, records, o.experiment.renders))
+                                                        config, records, o.experiment.renders))
     files.push_back(f);
   const double render_ms = context.elapsedMs() - render_start;
 

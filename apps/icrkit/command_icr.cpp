@@ -79,29 +79,30 @@ void run(const IcrOptions& options, CommandContext& context) {
 
   const std::string summary_path = summaryPathFor(options.output);
   // The regions file's format is icr's (regions_file.hpp); the rest is this command's summary.
-  nlohmann::json summary{
-      {"epsilon", result.epsilon},
-      {"lambda_m", result.lambda_m},
-      {"tws_radius", result.tws_radius},
-      {"gws_facets", result.gws_facets},
-      {"regions", nlohmann::json::parse(icr::regionsJson(result.regions))},
-      {"contacts", contacts},
-      {"model", nlohmann::json::parse(icr::contactModelJson(params.contact_model))},
-      {"alpha", options.tws_radius ? nlohmann::json(nullptr) : nlohmann::json(options.alpha)},
-      {"mode", options.mode == icr::GrowthMode::BreadthFirst ? "bfs" : "full"},
-      {"conservative", conservativeJson(params.conservative)},
-      {"patch", patch ? nlohmann::json{{"rule", "sphere"}, {"radius_m", patch->radius_m}, {"filter_border", patch->filter_border}}
-                      : nlohmann::json(nullptr)},
-      {"torque_reference", icr::torqueReferenceName(options.mesh.torque_reference)},
-      {"normals", input.normals_computed ? "computed" : "file"},
-      {"exclusion", input.exclusion_source},
-      {"excluded_vertices", countExcluded(input.excluded)},
-      {"vertices", input.mesh.vertexCount()},
-      {"unreferenced_vertices", unreferenced},
-      {"vertices_tested", result.vertices_tested},
-      {"mesh", path},
-      {"output", options.output},
-      {"summary", summary_path}};
+  nlohmann::json summary{{"epsilon", result.epsilon},
+                         {"lambda_m", result.lambda_m},
+                         {"tws_radius", result.tws_radius},
+                         {"gws_facets", result.gws_facets},
+                         {"regions", nlohmann::json::parse(icr::regionsJson(result.regions))},
+                         {"contacts", contacts},
+                         {"model", nlohmann::json::parse(icr::contactModelJson(params.contact_model))},
+                         {"alpha", options.tws_radius ? nlohmann::json(nullptr) : nlohmann::json(options.alpha)},
+                         {"mode", options.mode == icr::GrowthMode::BreadthFirst ? "bfs" : "full"},
+                         {"conservative", conservativeJson(params.conservative)},
+                         {"patch", patch ? nlohmann::json{{"rule", "sphere"},
+                                                          {"radius_m", patch->radius_m},
+                                                          {"filter_border", patch->filter_border}}
+                                         : nlohmann::json(nullptr)},
+                         {"torque_reference", icr::torqueReferenceName(options.mesh.torque_reference)},
+                         {"normals", input.normals_computed ? "computed" : "file"},
+                         {"exclusion", input.exclusion_source},
+                         {"excluded_vertices", countExcluded(input.excluded)},
+                         {"vertices", input.mesh.vertexCount()},
+                         {"unreferenced_vertices", unreferenced},
+                         {"vertices_tested", result.vertices_tested},
+                         {"mesh", path},
+                         {"output", options.output},
+                         {"summary", summary_path}};
   if (!snap_distances.is_null()) summary["contact_snap_distance_m"] = snap_distances;
   summary["time_ms"] = {{"read", read_ms},
                         {"hull", result.timings.hull_ms},

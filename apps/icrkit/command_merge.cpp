@@ -42,7 +42,10 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
   }
   context.note("merged " + std::to_string(o.inputs.size()) + " shards, " + std::to_string(merged.records.size()) +
                " grasps");
-  return {{"output", o.output}, {"shards", o.inputs.size()}, {"grasps", merged.records.size()}, {"files", files},
+  return {{"output", o.output},
+          {"shards", o.inputs.size()},
+          {"grasps", merged.records.size()},
+          {"files", files},
           {"time_ms", {{"total", context.elapsedMs()}}}};
 }
 
@@ -50,15 +53,18 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
 
 void addMergeCommand(CLI::App& app, CommandRunner& runner) {
   auto* command = app.add_subcommand(
-      "merge", "Combine the run folders of `icrkit evaluate/paper --shard i/N` (all N of them) into one set of "
-               "tables and figures, identical to an unsharded run (docs/scaling.md)");
+      "merge",
+      "Combine the run folders of `icrkit evaluate/paper --shard i/N` (all N of them) into one set of "
+      "tables and figures, identical to an unsharded run (docs/scaling.md)");
   auto o = std::make_shared<MergeOptions>();
   command->add_option("inputs", o->inputs, "Shard run folders")->required();
   command->add_option("-o,--output", o->output, "Output folder")->required();
-  command->callback([&runner, o] { runner = [o](CommandContext& context) {
+  command->callback([&runner, o] {
+    runner = [o](CommandContext& context) {
       context.mapFields({{"run folders", "merge"}});  // the command's own name, as before
       context.emit(merge(*o, context));
-    }; });
+    };
+  });
 }
 
 }  // namespace icrkit::app

@@ -65,8 +65,11 @@ nlohmann::json mesh(const MeshOptions& options, CommandContext& context) {
   summary["output"] = options.output;
   summary["summary"] = summary_path;
   summary["normals"] = normals_source;
-  summary["time_ms"] = {
-      {"read", read_ms}, {"normals", normals_ms}, {"mesh", mesh_ms}, {"write", write_ms}, {"total", context.elapsedMs()}};
+  summary["time_ms"] = {{"read", read_ms},
+                        {"normals", normals_ms},
+                        {"mesh", mesh_ms},
+                        {"write", write_ms},
+                        {"total", context.elapsedMs()}};
   writeSummaryFile(summary_path, summary);
   return summary;
 }

@@ -55,10 +55,14 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   for (const eval::StudyDatasetReport& d : study.datasets) {
     nlohmann::json sampled;
     for (const auto& [fingers, count] : d.grasps_sampled) sampled[std::to_string(fingers)] = count;
-    datasets.push_back({{"name", d.name}, {"alignment", infos[d.name]["alignment"]},
-                        {"preselection", infos[d.name]["preselection"]}, {"cad_vertices", d.cad_vertices},
-                        {"raw_vertices", d.raw_vertices}, {"filtered_vertices", d.filtered_vertices},
-                        {"lambda_m", d.lambda_m}, {"grasps_sampled", sampled}});
+    datasets.push_back({{"name", d.name},
+                        {"alignment", infos[d.name]["alignment"]},
+                        {"preselection", infos[d.name]["preselection"]},
+                        {"cad_vertices", d.cad_vertices},
+                        {"raw_vertices", d.raw_vertices},
+                        {"filtered_vertices", d.filtered_vertices},
+                        {"lambda_m", d.lambda_m},
+                        {"grasps_sampled", sampled}});
     nlohmann::json t = times[d.name];
     t["evaluate"] = d.evaluate_ms;
     t["render"] = d.after_ms;

@@ -63,7 +63,8 @@ void run(const RenderOptions& options, CommandContext& context) {
   const TriangleMesh mesh = readMesh(options.mesh, comparing, options.compute_normals, context);
   RegionSet regions;
   if (!options.regions.empty()) regions = readRegions(options.regions, mesh, options.mesh, options.finger);
-  const std::vector<int> contacts = options.contacts.empty() ? regions.setContacts() : parseContacts(options.contacts, mesh);
+  const std::vector<int> contacts =
+      options.contacts.empty() ? regions.setContacts() : parseContacts(options.contacts, mesh);
 
   report::RenderStyle style;
   style.width = width;
@@ -71,8 +72,11 @@ void run(const RenderOptions& options, CommandContext& context) {
   style.samples_per_axis = options.samples;
   const std::vector<report::RenderCamera> cameras = chooseCameras(options, mesh, width, height);
   const int view_count = static_cast<int>(cameras.size());
-  nlohmann::json summary{{"mesh", options.mesh}, {"output", options.output}, {"view_size", {width, height}},
-                         {"views", view_count}, {"cameras", nlohmann::json::array()}};
+  nlohmann::json summary{{"mesh", options.mesh},
+                         {"output", options.output},
+                         {"view_size", {width, height}},
+                         {"views", view_count},
+                         {"cameras", nlohmann::json::array()}};
   for (const report::RenderCamera& camera : cameras) summary["cameras"].push_back(cameraJson(camera));
 
   const double setup_ms = context.elapsedMs();
@@ -101,7 +105,8 @@ void run(const RenderOptions& options, CommandContext& context) {
     std::vector<eval::RegionIntersection> intersections;
     nlohmann::json fingers_json = nlohmann::json::array();
     for (const eval::FingerIntersection& pair : pairs) {
-      fingers_json.push_back(comparisonJson(pair.finger, pair.intersection, other_regions.vertices[pair.scan_region].size()));
+      fingers_json.push_back(
+          comparisonJson(pair.finger, pair.intersection, other_regions.vertices[pair.scan_region].size()));
       cad_sets.push_back(regions.vertices[pair.cad_region]);
       scan_sets.push_back(other_regions.vertices[pair.scan_region]);
       intersections.push_back(pair.intersection);

@@ -70,9 +70,11 @@ nlohmann::json makeDatasets(const DatasetsOptions& o, CommandContext& context) {
   nlohmann::json made = nlohmann::json::array();
   for (sim::DatasetSpec& spec : specs) {
     spec.acquisition.errors = errors;
-    const std::string directory = (std::filesystem::path(o.output) / sim::datasetFolderName(spec, o.pose_error)).string();
+    const std::string directory =
+        (std::filesystem::path(o.output) / sim::datasetFolderName(spec, o.pose_error)).string();
     context.note("simulating " + sim::datasetName(spec) + " -> " + directory);
-    made.push_back(nlohmann::json::parse(sim::datasetRecordJson(spec, sim::simulateDataset(spec, directory, context.progress()))));
+    made.push_back(
+        nlohmann::json::parse(sim::datasetRecordJson(spec, sim::simulateDataset(spec, directory, context.progress()))));
   }
   return {{"output", o.output},
           {"pose_error", errors.name},

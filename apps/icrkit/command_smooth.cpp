@@ -38,8 +38,9 @@ ndt::SmoothingParameters parameters(const SmoothOptions& options) {
   ndt::SmoothingParameters params;
   params.radius = parseLength("--radius", options.radius);
   params.passes = options.passes;
-  params.preselection.rule =
-      options.no_preselection ? ndt::PreselectionRule::None : ndt::parsePreselectionRule(options.preselection, "--preselection");
+  params.preselection.rule = options.no_preselection
+                                 ? ndt::PreselectionRule::None
+                                 : ndt::parsePreselectionRule(options.preselection, "--preselection");
   params.preselection.cardinality_threshold = options.cardinality_threshold;
   params.preselection.flatness_threshold = options.flatness_threshold;
   if (!options.viewpoint.empty()) params.viewpoint = parsePoint("--viewpoint", options.viewpoint);

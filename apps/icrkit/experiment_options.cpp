@@ -192,7 +192,8 @@ TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandC
   if (mesh.faces.empty()) throw InputError(path, "", "has no faces; the evaluation needs a triangle mesh");
   if (!mesh.vertices.hasNormals()) {
     if (!compute)
-      throw InputError(path, "", "has no vertex normals (PLY nx/ny/nz or OBJ vn); pass --compute-normals to derive them");
+      throw InputError(path, "",
+                       "has no vertex normals (PLY nx/ny/nz or OBJ vn); pass --compute-normals to derive them");
     computeVertexNormals(mesh);
     context.note("icrkit: " + path + ": vertex normals computed from the faces");
   }

@@ -40,24 +40,26 @@ void addIcrOptions(CLI::App& command, IcrOptions& options) {
   options.mesh.addTo(command);
   auto* contacts = command.add_option("--contacts", options.contacts, "Prototype grasp: vertex indices i,j,k,...");
   auto* points = command.add_option("--contact-points", options.contact_points,
-                                     "Prototype grasp as points \"x,y,z;x,y,z;...\" (metres), each snapped to the "
-                                     "nearest vertex of a face");
+                                    "Prototype grasp as points \"x,y,z;x,y,z;...\" (metres), each snapped to the "
+                                    "nearest vertex of a face");
   contacts->excludes(points);
   options.contact_model.addTo(command);
-  auto* alpha = command
-                    .add_option("--alpha", options.alpha,
-                                 "TWS: an origin-centred ball of radius alpha * epsilon of the prototype, alpha in (0, 1]")
-                    ->check(CLI::Validator(
-                        [](std::string& value) -> std::string {
-                          double a = 0.0;
-                          if (!CLI::detail::lexical_cast(value, a) || !(a > 0.0 && a <= 1.0))
-                            return "alpha must be in (0, 1], got " + value;
-                          return {};
-                        },
-                        "(0,1]"))
-                    ->capture_default_str();
-  auto* radius = command.add_option("--tws-radius", options.tws_radius,
-                                     "TWS: an origin-centred ball of this absolute radius (instead of --alpha)")
+  auto* alpha =
+      command
+          .add_option("--alpha", options.alpha,
+                      "TWS: an origin-centred ball of radius alpha * epsilon of the prototype, alpha in (0, 1]")
+          ->check(CLI::Validator(
+              [](std::string& value) -> std::string {
+                double a = 0.0;
+                if (!CLI::detail::lexical_cast(value, a) || !(a > 0.0 && a <= 1.0))
+                  return "alpha must be in (0, 1], got " + value;
+                return {};
+              },
+              "(0,1]"))
+          ->capture_default_str();
+  auto* radius = command
+                     .add_option("--tws-radius", options.tws_radius,
+                                 "TWS: an origin-centred ball of this absolute radius (instead of --alpha)")
                      ->check(CLI::PositiveNumber);
   alpha->excludes(radius);
   command
@@ -70,11 +72,11 @@ void addIcrOptions(CLI::App& command, IcrOptions& options) {
       ->check(CLI::IsMember({"bfs", "full"}));
   options.conservative.addTo(command);
   command.add_option("--patch-radius", options.patch_radius,
-                      "Multi-point (patch) contacts of the reference ICR library: each contact is the connected piece "
-                      "of the mesh within this distance (metres) of its vertex, every point at full strength "
-                      "(docs/icr.md: epsilon and regions then grow with the mesh density)");
+                     "Multi-point (patch) contacts of the reference ICR library: each contact is the connected piece "
+                     "of the mesh within this distance (metres) of its vertex, every point at full strength "
+                     "(docs/icr.md: epsilon and regions then grow with the mesh density)");
   command.add_flag("--patch-all-points", options.patch_all_points,
-                    "Keep every point of a patch (default: its centre and border points, as the reference library)");
+                   "Keep every point of a patch (default: its centre and border points, as the reference library)");
   command.add_option("-o,--output", options.output, "Output .ply (the summary goes to the same name with .json)")
       ->required();
 }

@@ -19,15 +19,15 @@ void addPaperOptions(CLI::App& command, PaperOptions& o) {
   command.add_option("--views", o.views, "Views per dataset (0: each dataset's own)")->capture_default_str();
   command.add_flag("--reuse", o.reuse, "Keep datasets and reconstructions already in DIR from an earlier run");
   command.add_flag("--mesh-kept-points-only", o.mesh_kept_points_only,
-                    "Reconstruct the filtered meshes without their excluded points (with --reuse: only for "
-                    "datasets reconstructed in this run)");
+                   "Reconstruct the filtered meshes without their excluded points (with --reuse: only for "
+                   "datasets reconstructed in this run)");
   o.experiment.addTo(command);
   command.add_option("-o,--output", o.output, "Output folder")->required();
 }
 
 std::vector<sim::DatasetSpec> chosenDatasets(const PaperOptions& o) {
-  std::vector<sim::DatasetSpec> specs = sim::paperDatasets(o.datasets.empty() ? std::vector<std::string>{}
-                                                                             : split(o.datasets, ','));
+  std::vector<sim::DatasetSpec> specs =
+      sim::paperDatasets(o.datasets.empty() ? std::vector<std::string>{} : split(o.datasets, ','));
   if (o.views < 0) throw InputError("--views", "", "expected 0 (the dataset's own) or a positive count");
   if (o.views > 0)
     for (sim::DatasetSpec& s : specs) s.acquisition.views = o.views;
@@ -70,11 +70,14 @@ eval::StudyMeshes datasetMeshes(const PaperOptions& o, const sim::DatasetSpec& s
   times["reconstruct"] = context.elapsedMs() - start;
   // A reused reconstruction is decided again by the rule asked for (from
   // the smoothing's attributes), so one set of meshes serves every rule.
-  info["preselection"] = reused ? o.experiment.applyPreselection(meshes.filtered, meshes.filtered_file) : nlohmann::json();
+  info["preselection"] =
+      reused ? o.experiment.applyPreselection(meshes.filtered, meshes.filtered_file) : nlohmann::json();
   meshes.cad = io::readTriangleMesh(meshes.cad_file);
   info["alignment"] = nlohmann::json::array();
-  for (auto [mesh, label] : {std::pair<TriangleMesh*, const char*>{&meshes.raw, "raw.ply"}, {&meshes.filtered, "filtered.ply"}}) {
-    const nlohmann::json a = alignIfAsked(o.experiment, *mesh, meshes.cad, label, (fs::path(folder.reconstructionDir(name)) / label).string());
+  for (auto [mesh, label] :
+       {std::pair<TriangleMesh*, const char*>{&meshes.raw, "raw.ply"}, {&meshes.filtered, "filtered.ply"}}) {
+    const nlohmann::json a = alignIfAsked(o.experiment, *mesh, meshes.cad, label,
+                                          (fs::path(folder.reconstructionDir(name)) / label).string());
     if (!a.is_null()) info["alignment"].push_back(a);
   }
   return meshes;

@@ -34,70 +34,70 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
   options.command = &command;
   command
       .add_option("input", options.input,
-                   "Rawlog of CObservation3DRangeScan (plain or gzip), or a TUM RGB-D folder (depth.txt, depth/*.png)")
+                  "Rawlog of CObservation3DRangeScan (plain or gzip), or a TUM RGB-D folder (depth.txt, depth/*.png)")
       ->required();
   command.add_option("-o,--output", options.output, "Output directory (created; files replaced atomically)")
       ->required();
   command.add_option("--poses", options.poses,
-                      "TUM file of the sensor poses. Rawlog: MRPT sensor axes (x forward, y left, z up), the i-th "
-                      "pose replaces the i-th scan's sensorPose. TUM folder: OPTICAL axes (x right, y down, z "
-                      "forward), camera to object, like the folder's groundtruth.txt; matched by order or time stamp");
+                     "TUM file of the sensor poses. Rawlog: MRPT sensor axes (x forward, y left, z up), the i-th "
+                     "pose replaces the i-th scan's sensorPose. TUM folder: OPTICAL axes (x right, y down, z "
+                     "forward), camera to object, like the folder's groundtruth.txt; matched by order or time stamp");
   command.add_option("--gt-poses", options.gt_poses,
-                      "TUM file of true sensor poses, in the same axes and matched as --poses: the summary then "
-                      "reports the registration error");
+                     "TUM file of true sensor poses, in the same axes and matched as --poses: the summary then "
+                     "reports the registration error");
   addDepthFolderOptions(command, options.folder);
   command
       .add_option("--rotation-tolerance", options.rotation_tolerance,
-                   "Largest max |R^T R - I| of a rawlog's sensorPose rotation that is projected onto the nearest "
-                   "rotation (counted as poses_orthonormalised); beyond it the scan is refused")
+                  "Largest max |R^T R - I| of a rawlog's sensorPose rotation that is projected onto the nearest "
+                  "rotation (counted as poses_orthonormalised); beyond it the scan is refused")
       ->capture_default_str();
   command.add_option("--images", options.images, "Folder of externally stored images (default: <rawlog>_Images)");
   command.add_option("--range-correction", options.range_correction,
-                      "ToF range error model (JSON from `icrkit calibrate-range`) removed from every scan first");
+                     "ToF range error model (JSON from `icrkit calibrate-range`) removed from every scan first");
   command.add_option("--crop", options.crop,
-                      "Object region xmin,ymin,zmin,xmax,ymax,zmax (metres, object frame). Default: a cube of "
-                      "--crop-size around the point the views' optical axes converge on");
+                     "Object region xmin,ymin,zmin,xmax,ymax,zmax (metres, object frame). Default: a cube of "
+                     "--crop-size around the point the views' optical axes converge on");
   command.add_option("--crop-size", options.crop_size, "Half edge of the automatic crop cube (metres)")
       ->capture_default_str();
   command.add_flag("--no-plane-removal", options.no_plane, "Keep the support plane (table, plate)");
   command.add_flag("--no-registration", options.no_registration, "Fuse at the reported poses");
   command.add_flag("--scan-to-model", options.scan_to_model,
-                    "Register each scan against the scans before it first (the paper's sequential pass; slower, "
-                    "rarely better: docs/reconstruction.md)");
+                   "Register each scan against the scans before it first (the paper's sequential pass; slower, "
+                   "rarely better: docs/reconstruction.md)");
   command.add_option("--write-registration-input", options.write_registration_input,
-                      "Also write each scan's object points (sensor frame) and starting pose to this folder "
-                      "(view_NNN.ply, start.txt): the registration's exact input, for other tools");
+                     "Also write each scan's object points (sensor frame) and starting pose to this folder "
+                     "(view_NNN.ply, start.txt): the registration's exact input, for other tools");
   command.add_option("--board-square", options.board_square,
-                      "Setup B: the object stands on a checkerboard with squares of this size (metres) whose lines "
-                      "lie on the object frame's x and y axes; each scan's camera pose found on it (intensity image) "
-                      "becomes a robust prior in the registration's pose graph (docs/calibration.md)");
+                     "Setup B: the object stands on a checkerboard with squares of this size (metres) whose lines "
+                     "lie on the object frame's x and y axes; each scan's camera pose found on it (intensity image) "
+                     "becomes a robust prior in the registration's pose graph (docs/calibration.md)");
   command.add_option("--board-origin", options.board_origin,
-                      "A corner of the checkerboard, object frame (x,y,z metres; default 0,0,0)");
+                     "A corner of the checkerboard, object frame (x,y,z metres; default 0,0,0)");
   command.add_flag("--no-jump-edges", options.no_jump_edges, "Keep jump-edge (flying) pixels");
   command.add_flag("--no-meshes", options.no_meshes, "Stop after the fused cloud");
   command.add_option("--min-confidence", options.min_confidence, "Drop pixels below this confidence (0-255; 0 = off)")
       ->capture_default_str();
-  command.add_option("--min-amplitude", options.min_amplitude,
-                      "Drop ToF pixels below this amplitude (0-255; 0 = off)")
+  command.add_option("--min-amplitude", options.min_amplitude, "Drop ToF pixels below this amplitude (0-255; 0 = off)")
       ->capture_default_str();
   command.add_option("--max-range", options.max_range, "Drop returns further than this (metres; 0 = off)")
       ->capture_default_str();
   command.add_option("--voxel", options.voxel, "OctoMap voxel edge of the fusion (metres)")->capture_default_str();
   command
       .add_option("--smoothing-radius", options.smoothing_radius,
-                   "3D-NDT smoothing window: metres or a multiple of a single scan's median point spacing")
+                  "3D-NDT smoothing window: metres or a multiple of a single scan's median point spacing")
       ->capture_default_str();
   command.add_option("--passes", options.passes, "3D-NDT smoothing passes")->capture_default_str();
   addWindowNormalAngleOption(command, options.window_normal_angle);
   addPreselectionOption(command, options.preselection, "for the filtered mesh");
-  command.add_option("--mesh-thinning", options.mesh_thinning,
-                      "Noise-layer thinning of the smoothed cloud before ball pivoting, cube edge in layer "
-                      "thicknesses; the thinned points are put back into the faces afterwards (docs/meshing.md; "
-                      "0: none)")
+  command
+      .add_option("--mesh-thinning", options.mesh_thinning,
+                  "Noise-layer thinning of the smoothed cloud before ball pivoting, cube edge in layer "
+                  "thicknesses; the thinned points are put back into the faces afterwards (docs/meshing.md; "
+                  "0: none)")
       ->capture_default_str();
   command.add_flag("--mesh-kept-points-only", options.mesh_kept_points_only,
-                    "Drop the excluded points before meshing the smoothed cloud (the filtered mesh then has no "
-                    "excluded vertex)");
+                   "Drop the excluded points before meshing the smoothed cloud (the filtered mesh then has no "
+                   "excluded vertex)");
 }
 
 reconstruction::ReconstructionParameters reconstructionParameters(const ReconstructOptions& options) {

@@ -15,7 +15,7 @@ namespace {
 
 // --camera eye_x,eye_y,eye_z[,target_x,target_y,target_z], fitted to the mesh.
 report::RenderCamera parseCamera(const std::string& text, std::size_t index, const report::BoundingSphere& sphere,
-                               const Eigen::Vector3d& up, double aspect) {
+                                 const Eigen::Vector3d& up, double aspect) {
   const std::vector<std::string> parts = split(text, ',');
   std::vector<double> values;
   for (const std::string& part : parts) {
@@ -28,9 +28,9 @@ report::RenderCamera parseCamera(const std::string& text, std::size_t index, con
   }
   const std::string location = "camera " + std::to_string(index + 1);
   if (values.size() != 3 && values.size() != 6)
-    throw InputError("--camera", location,
-                     "expected eye_x,eye_y,eye_z or eye_x,eye_y,eye_z,target_x,target_y,target_z in metres, got '" +
-                         text + "'");
+    throw InputError(
+        "--camera", location,
+        "expected eye_x,eye_y,eye_z or eye_x,eye_y,eye_z,target_x,target_y,target_z in metres, got '" + text + "'");
   const Eigen::Vector3d eye(values[0], values[1], values[2]);
   const Eigen::Vector3d target = values.size() == 6 ? Eigen::Vector3d(values[3], values[4], values[5]) : sphere.centre;
   if ((target - eye).norm() == 0.0) throw InputError("--camera", location, "the eye is at the target");
@@ -46,7 +46,7 @@ report::RenderCamera parseCamera(const std::string& text, std::size_t index, con
 }  // namespace
 
 std::vector<report::RenderCamera> chooseCameras(const RenderOptions& options, const TriangleMesh& mesh, int width,
-                                              int height) {
+                                                int height) {
   const Eigen::Vector3d up = parsePoint("--up", options.up);
   if (up.norm() == 0.0) throw InputError("--up", "", "must be a non-zero vector");
   const double aspect = static_cast<double>(width) / height;
@@ -135,12 +135,12 @@ void addRenderOptions(CLI::App& command, RenderOptions& options) {
   command.add_option("MESH", options.mesh, "Mesh to render (the CAD mesh with --compare)")->required();
   command.add_option("--regions", options.regions, "Regions of MESH: the JSON summary of `icrkit icr`");
   command.add_option("--compare", options.compare,
-                      "Reconstructed mesh OTHER, in MESH's frame, whose regions are compared with MESH's (Fig. 6)");
+                     "Reconstructed mesh OTHER, in MESH's frame, whose regions are compared with MESH's (Fig. 6)");
   command.add_option("--compare-regions", options.compare_regions, "Regions of OTHER (`icrkit icr` JSON)");
   command.add_option("--contacts", options.contacts,
-                      "Prototype contacts to mark, vertex indices of MESH i,j,... (default: those in --regions)");
+                     "Prototype contacts to mark, vertex indices of MESH i,j,... (default: those in --regions)");
   command.add_flag("--compute-normals", options.compute_normals,
-                    "Derive vertex normals from the faces (needed with --compare when MESH has none)");
+                   "Derive vertex normals from the faces (needed with --compare when MESH has none)");
   command.add_option("--finger", options.finger, "Only this finger's region")->check(CLI::NonNegativeNumber);
   command.add_option("--size", options.size, "Size of each view in pixels, WIDTHxHEIGHT")->capture_default_str();
   auto* views = command.add_option("--views", options.views, "Number of automatic views around the mesh")

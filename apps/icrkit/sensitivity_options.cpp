@@ -17,8 +17,8 @@ std::vector<double> parseLevels(const std::string& text) {
   for (const std::string& part : split(text, ',')) {
     double value = 0;
     if (!parseNumber(part, value))
-      throw InputError("--noise", "", "expected noise levels >= 0 (multiples of the spacing) separated by commas, got '" +
-                                          text + "'");
+      throw InputError("--noise", "",
+                       "expected noise levels >= 0 (multiples of the spacing) separated by commas, got '" + text + "'");
     levels.push_back(value);
   }
   return levels;
@@ -65,14 +65,17 @@ void addSensitivityOptions(CLI::App& command, SensitivityOptions& o) {
   command.add_option("--cad", o.cad, "CAD mesh file (normals computed from the faces when it has none)");
   command.add_option("--object", o.object, "One of the simulator's CAD objects instead (icrkit datasets list)");
   command.add_option("--name", o.name, "Object name in the records (default: the file stem or object name)");
-  command.add_option("--spacing", o.spacing, "Poisson-disk spacing of the sample, metres (0: bounding-box diagonal / 150)")
+  command
+      .add_option("--spacing", o.spacing, "Poisson-disk spacing of the sample, metres (0: bounding-box diagonal / 150)")
       ->capture_default_str();
   command.add_option("--noise", o.noise, "Noise levels: sigma along the normal in multiples of the spacing")
       ->capture_default_str();
-  command.add_option("--preselection", o.rules, "Preselection rules of the filtered meshes, comma-separated (default, paper-mean, none)")
+  command
+      .add_option("--preselection", o.rules,
+                  "Preselection rules of the filtered meshes, comma-separated (default, paper-mean, none)")
       ->capture_default_str();
   command.add_flag("--mesh-kept-points-only", o.mesh_kept_points_only,
-                    "Mesh each rule's smoothed cloud without its excluded points (the other reading of the paper)");
+                   "Mesh each rule's smoothed cloud without its excluded points (the other reading of the paper)");
   addWindowNormalAngleOption(command, o.window_normal_angle);
   o.experiment.addTo(command, false);
   command.add_option("-o,--output", o.output, "Output folder")->required();

@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   icrkit::report::RenderStyle style;
   style.width = 64;
   style.height = 48;
-  const icrkit::report::RgbImage image = icrkit::report::renderMesh(back, icrkit::report::orbitCameras(back, orbit)[0], style);
+  const icrkit::report::RgbImage image =
+      icrkit::report::renderMesh(back, icrkit::report::orbitCameras(back, orbit)[0], style);
   const std::string png = icrkit::report::encodePng(image);
   std::printf("png %zu bytes\n", png.size());
   const bool is_png = png.size() > 8 && png.compare(1, 3, "PNG") == 0;

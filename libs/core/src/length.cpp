@@ -38,15 +38,17 @@ std::vector<std::string> splitAtCommas(const std::string& text) {
 
 }  // namespace
 
-bool Length::valid() const { return std::isfinite(value) && value > 0.0; }
+bool Length::valid() const {
+  return std::isfinite(value) && value > 0.0;
+}
 
 Length parseLength(const std::string& source, const std::string& text) {
   Length length;
   length.relative = !text.empty() && (text.back() == 'x' || text.back() == 'X');
   if (!parseWholeNumber(length.relative ? text.substr(0, text.size() - 1) : text, length.value))
-    throw InputError(source, "",
-                     "expected metres (e.g. 0.004) or a multiple of the median point spacing (e.g. 4x), got '" +
-                         text + "'");
+    throw InputError(
+        source, "",
+        "expected metres (e.g. 0.004) or a multiple of the median point spacing (e.g. 4x), got '" + text + "'");
   if (!(length.value > 0)) throw InputError(source, "", "must be positive, got '" + text + "'");
   return length;
 }
@@ -57,8 +59,8 @@ std::vector<Length> parseLengths(const std::string& source, const std::string& t
   if (lengths.empty()) throw InputError(source, "", "expected at least one length");
   for (const Length& l : lengths)
     if (l.relative != lengths.front().relative)
-      throw InputError(source, "", "give all lengths in metres or all as multiples of the spacing (x), got '" +
-                                       text + "'");
+      throw InputError(source, "",
+                       "give all lengths in metres or all as multiples of the spacing (x), got '" + text + "'");
   return lengths;
 }
 

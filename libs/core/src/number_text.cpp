@@ -8,8 +8,8 @@ namespace icrkit {
 std::string formatFixed(double value, int decimals) {
   // 309 integer digits (DBL_MAX), a sign, a point and at most 100 decimals.
   char buffer[420];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed,
-                                    std::clamp(decimals, 0, 100));
+  const auto result =
+      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::fixed, std::clamp(decimals, 0, 100));
   return std::string(buffer, result.ptr);
 }
 

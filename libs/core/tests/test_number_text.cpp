@@ -72,8 +72,8 @@ TEST(Length, RefusesWhatIsNotALength) {
     EXPECT_NE(std::string(test::expectInputError([&] { parseLength("--radius", bad); }).what()).find("positive"),
               std::string::npos)
         << bad;
-  EXPECT_NE(std::string(test::expectInputError([&] { parseLengths("--radii", "2x,0.004"); }).what())
-                .find("all as multiples"),
-            std::string::npos);
+  EXPECT_NE(
+      std::string(test::expectInputError([&] { parseLengths("--radii", "2x,0.004"); }).what()).find("all as multiples"),
+      std::string::npos);
   EXPECT_EQ(test::expectInputError([&] { parseLengths("--radii", ""); }).source(), "--radii");
 }

@@ -7,13 +7,11 @@
 
 namespace icrkit::eval {
 
-std::vector<FingerIntersection> intersectByFinger(const IntersectionEstimator& cad,
-                                                  const std::vector<int>& cad_fingers,
+std::vector<FingerIntersection> intersectByFinger(const IntersectionEstimator& cad, const std::vector<int>& cad_fingers,
                                                   const std::vector<std::vector<int>>& cad_regions,
                                                   const TriangleMesh& scan, const std::vector<int>& scan_fingers,
                                                   const std::vector<std::vector<int>>& scan_regions) {
-  if (cad_fingers.size() != cad_regions.size())
-    throw InputError("CAD regions", "", "expected one finger per region");
+  if (cad_fingers.size() != cad_regions.size()) throw InputError("CAD regions", "", "expected one finger per region");
   if (scan_fingers.size() != scan_regions.size())
     throw InputError("reconstructed regions", "", "expected one finger per region");
   const auto missing = [](const std::vector<int>& fingers, int finger) {
@@ -32,8 +30,8 @@ std::vector<FingerIntersection> intersectByFinger(const IntersectionEstimator& c
     FingerIntersection entry;
     entry.finger = cad_fingers[r];
     entry.cad_region = r;
-    entry.scan_region = static_cast<std::size_t>(
-        std::find(scan_fingers.begin(), scan_fingers.end(), entry.finger) - scan_fingers.begin());
+    entry.scan_region = static_cast<std::size_t>(std::find(scan_fingers.begin(), scan_fingers.end(), entry.finger) -
+                                                 scan_fingers.begin());
     entry.intersection = cad.estimate(cad_regions[r], scan, scan_regions[entry.scan_region]);
     out.push_back(std::move(entry));
   }

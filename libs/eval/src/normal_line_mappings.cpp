@@ -19,7 +19,6 @@ namespace {
 
 constexpr const char* kSource = "normal-line mapping";
 
-
 // Lexicographic (distance to the line, distance to the anchor, index):
 // a total order, so the kd-tree's traversal order never shows in the answer.
 struct BestCandidate {
@@ -54,9 +53,9 @@ void MappingParameters::validate() const {
     throw InputError("MappingParameters::max_line_distance", "",
                      "expected a finite length > 0 (metres), got " + std::to_string(max_line_distance));
   if (neighbourhood_radius && !(std::isfinite(*neighbourhood_radius) && *neighbourhood_radius > 0.0))
-    throw InputError("MappingParameters::neighbourhood_radius", "",
-                     "expected a finite length > 0 (metres) or unset (automatic), got " +
-                         std::to_string(*neighbourhood_radius));
+    throw InputError(
+        "MappingParameters::neighbourhood_radius", "",
+        "expected a finite length > 0 (metres) or unset (automatic), got " + std::to_string(*neighbourhood_radius));
 }
 
 MappingTarget::MappingTarget(const TriangleMesh& mesh, const MappingParameters& params)

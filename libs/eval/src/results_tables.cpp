@@ -317,7 +317,9 @@ std::string eligibilityJson(const EligibilitySummary& summary) {
   return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
-void writeTableOneJson(const std::string& path, const TableOne& table) { writeFileAtomically(path, tableOneJson(table)); }
+void writeTableOneJson(const std::string& path, const TableOne& table) {
+  writeFileAtomically(path, tableOneJson(table));
+}
 void writeEligibilityJson(const std::string& path, const EligibilitySummary& summary) {
   writeFileAtomically(path, eligibilityJson(summary));
 }

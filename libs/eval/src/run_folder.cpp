@@ -50,7 +50,7 @@ std::string experimentConfigJson(const ExperimentConfig& config) {
       {"contact_model", nlohmann::json::parse(icr::contactModelJson(config.contactModel()))},
       {"alpha", config.alpha},
       {"growth", config.growth == icr::GrowthMode::BreadthFirst ? "bfs" : "full"},
-      {"metric", config.metric == DistanceMetric::Euclidean                   ? "euclidean"
+      {"metric", config.metric == DistanceMetric::Euclidean                 ? "euclidean"
                  : config.paths == GeodesicPaths::EdgesAndUnfoldedDiagonals ? "geodesic_edges_and_unfolded_diagonals"
                                                                             : "geodesic_edges"},
       {"max_line_distance_m", config.mapping.max_line_distance},

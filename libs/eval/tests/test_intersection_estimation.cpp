@@ -111,12 +111,18 @@ TEST(FingerIntersections, PairedByFingerNumber) {
     EXPECT_NEAR(p.intersection.intersection_area_m2 / p.intersection.cad_region_area_m2, 1.0, 1e-12);
     EXPECT_EQ(p.intersection.false_positive_area_m2, 0.0);
   }
-  const InputError missing = test::expectInputError([&] { intersectByFinger(estimator, {3, 5}, {a, b}, mesh, {3}, {a}); });
+  const InputError missing = test::expectInputError([&] {
+    intersectByFinger(estimator, {3, 5}, {a, b}, mesh, {3}, {a});
+  });
   EXPECT_EQ(missing.source(), "reconstructed regions");
   EXPECT_NE(missing.detail().find("finger 5"), std::string::npos);
-  EXPECT_EQ(test::expectInputError([&] { intersectByFinger(estimator, {3}, {a}, mesh, {3, 4}, {a, b}); }).source(),
+  EXPECT_EQ(test::expectInputError([&] {
+              intersectByFinger(estimator, {3}, {a}, mesh, {3, 4}, {a, b});
+            }).source(),
             "CAD regions");
-  EXPECT_EQ(test::expectInputError([&] { intersectByFinger(estimator, {3, 4}, {a}, mesh, {3}, {a}); }).source(),
+  EXPECT_EQ(test::expectInputError([&] {
+              intersectByFinger(estimator, {3, 4}, {a}, mesh, {3}, {a});
+            }).source(),
             "CAD regions");
 }
 

@@ -95,7 +95,9 @@ TEST(Study, StagesAreCalledAndMeshErrorsNameTheFile) {
   };
   const InputError error = icrkit::test::expectInputError([&] { runStudy({"x"}, smallConfig(), Shard{}, broken); });
   EXPECT_EQ(error.source(), "rec/filtered.ply");
-  EXPECT_EQ(icrkit::test::expectInputError([&] { runStudy({"x"}, smallConfig(), Shard{2, 2}, broken); }).source(),
+  EXPECT_EQ(icrkit::test::expectInputError([&] {
+              runStudy({"x"}, smallConfig(), Shard{2, 2}, broken);
+            }).source(),
             "Shard");
 }
 
@@ -132,8 +134,9 @@ TEST(RunMerge, JoinsShardsAndChecksThem) {
   ASSERT_NE(first_evaluated, nullptr);
   std::filesystem::create_directories(RunFolder{folders[0]}.renders());
   writeFileAtomically(RunFolder{folders[0]}.render(*first_evaluated, "raw"), std::string("png"));
-  writeFileAtomically((std::filesystem::path(RunFolder{folders[0]}.renders()) / "other_9fingers_grasp9_raw.png").string(),
-                      std::string("png"));
+  writeFileAtomically(
+      (std::filesystem::path(RunFolder{folders[0]}.renders()) / "other_9fingers_grasp9_raw.png").string(),
+      std::string("png"));
 
   const MergedRun merged = mergeRunFolders(folders);
   EXPECT_EQ(test::recordLines(merged.records), test::recordLines(whole.records));
@@ -147,15 +150,19 @@ TEST(RunMerge, JoinsShardsAndChecksThem) {
             renderStem(*first_evaluated) + "raw.png");
   EXPECT_FALSE(merged.sensitivity);
 
-  EXPECT_NE(std::string(icrkit::test::expectInputError([&] { mergeRunFolders({folders[0]}); }).what()).find(
-                "shards missing: 1 of 2"),
+  EXPECT_NE(std::string(icrkit::test::expectInputError([&] { mergeRunFolders({folders[0]}); }).what())
+                .find("shards missing: 1 of 2"),
             std::string::npos);
-  EXPECT_NE(std::string(icrkit::test::expectInputError([&] { mergeRunFolders({folders[0], folders[0]}); }).what())
+  EXPECT_NE(std::string(icrkit::test::expectInputError([&] {
+                          mergeRunFolders({folders[0], folders[0]});
+                        }).what())
                 .find("given twice"),
             std::string::npos);
   const std::string other = scratch.file("other_seed");
   writeShard(other, {}, 1, 2, 7);
-  EXPECT_EQ(icrkit::test::expectInputError([&] { mergeRunFolders({folders[0], other}); }).source(),
+  EXPECT_EQ(icrkit::test::expectInputError([&] {
+              mergeRunFolders({folders[0], other});
+            }).source(),
             RunFolder{other}.runJson());
   EXPECT_EQ(icrkit::test::expectInputError([&] { mergeRunFolders({scratch.file("none")}); }).source(),
             RunFolder{scratch.file("none")}.runJson());

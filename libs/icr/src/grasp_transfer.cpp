@@ -32,8 +32,9 @@ std::vector<Eigen::Vector3d> positionsOf(const TriangleMesh& target, const std::
 
 double mappingRadius(const std::vector<Eigen::Vector3d>& points, const NormalLineMappingParameters& params) {
   if (params.search_radius && !(std::isfinite(*params.search_radius) && *params.search_radius > 0.0))
-    throw InputError("NormalLineMappingParameters::search_radius", "",
-                     "expected a finite radius > 0 (or unset: automatic), got " + std::to_string(*params.search_radius));
+    throw InputError(
+        "NormalLineMappingParameters::search_radius", "",
+        "expected a finite radius > 0 (or unset: automatic), got " + std::to_string(*params.search_radius));
   if (points.empty()) throw InputError("normal-line mapping", "target mesh", "the target has no vertices");
   if (params.search_radius) return *params.search_radius;
   // Ten spacings reach well past the surface noise of a reconstruction but

@@ -24,15 +24,16 @@ void checkPrototype(const GraspableObject& object, const std::vector<int>& conta
       if (contacts[j] == c) fail("vertex " + std::to_string(c) + " is used by contacts " + std::to_string(j) + " and " + std::to_string(i));
   }
   if (params.tws_radius && !(std::isfinite(*params.tws_radius) && *params.tws_radius >= 0))
-    throw InputError("IcrParameters::tws_radius", "", "expected a finite radius >= 0, got " + std::to_string(*params.tws_radius));
+    throw InputError("IcrParameters::tws_radius", "",
+                     "expected a finite radius >= 0, got " + std::to_string(*params.tws_radius));
   if (!params.tws_radius && !params.tws_wrenches && !(params.alpha > 0 && params.alpha <= 1))
     throw InputError("task wrench space", "", "alpha must be in (0, 1], got " + std::to_string(params.alpha));
 }
 
 TaskWrenchSpace taskWrenchSpaceFor(const IcrParameters& params, const GraspWrenchSpace& gws) {
   const TaskWrenchSpace tws = params.tws_wrenches ? TaskWrenchSpace::polytope(*params.tws_wrenches)
-                              : params.tws_radius   ? TaskWrenchSpace::ball(*params.tws_radius)
-                                                      : TaskWrenchSpace::ball(params.alpha * gws.epsilon);
+                              : params.tws_radius ? TaskWrenchSpace::ball(*params.tws_radius)
+                                                  : TaskWrenchSpace::ball(params.alpha * gws.epsilon);
   tws.requireInside(gws);
   return tws;
 }

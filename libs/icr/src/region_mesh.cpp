@@ -11,14 +11,14 @@ namespace {
 // Tableau 10 without its grey, which marks vertices in no region: distinct
 // hues that stay apart for the usual 3-5 fingers.
 constexpr std::array<Colour, 9> kPalette{{{31, 119, 180},
-                                         {255, 127, 14},
-                                         {44, 160, 44},
-                                         {214, 39, 40},
-                                         {148, 103, 189},
-                                         {140, 86, 75},
-                                         {227, 119, 194},
-                                         {188, 189, 34},
-                                         {23, 190, 207}}};
+                                          {255, 127, 14},
+                                          {44, 160, 44},
+                                          {214, 39, 40},
+                                          {148, 103, 189},
+                                          {140, 86, 75},
+                                          {227, 119, 194},
+                                          {188, 189, 34},
+                                          {23, 190, 207}}};
 constexpr Colour kNoRegion{190, 190, 190};
 constexpr Colour kRecommended{0, 0, 0};
 
@@ -29,9 +29,9 @@ TriangleMesh regionMesh(const TriangleMesh& mesh, const std::vector<ContactRegio
   for (const ContactRegion& r : regions) {
     for (int v : r.vertices)
       if (v < 0 || static_cast<std::size_t>(v) >= n)
-        throw InputError("regions", "finger " + std::to_string(r.finger),
-                         "vertex " + std::to_string(v) + " is not a vertex of the mesh (" + std::to_string(n) +
-                             " vertices)");
+        throw InputError(
+            "regions", "finger " + std::to_string(r.finger),
+            "vertex " + std::to_string(v) + " is not a vertex of the mesh (" + std::to_string(n) + " vertices)");
     if (r.recommended.vertex >= 0 && static_cast<std::size_t>(r.recommended.vertex) >= n)
       throw InputError("regions", "finger " + std::to_string(r.finger),
                        "recommended vertex " + std::to_string(r.recommended.vertex) + " is not a vertex of the mesh");

@@ -32,9 +32,8 @@ NormalEstimationReport estimateNormals(PointCloud& cloud, const NormalEstimation
 
   NormalEstimationReport summary;
   summary.points = n;
-  summary.radius_m = params.radius.relative
-                         ? params.radius.metresFor(nearestNeighbourSpacing(cloud.positions).median)
-                         : params.radius.value;
+  summary.radius_m = params.radius.relative ? params.radius.metresFor(nearestNeighbourSpacing(cloud.positions).median)
+                                            : params.radius.value;
   const std::size_t k = std::max<std::size_t>(3, params.min_neighbours);
 
   const KdTree tree(cloud.positions);

@@ -159,7 +159,7 @@ Preselection preselect(const std::vector<double>& cardinality, const std::vector
 }
 
 PreselectionReport applyPreselection(AttributeSet& attributes, std::size_t count, const PreselectionParameters& params,
-                                      const std::string& source) {
+                                     const std::string& source) {
   const auto column = [&](const char* name) -> const std::vector<double>& {
     const Attribute* a = attributes.find(name);
     if (!a)

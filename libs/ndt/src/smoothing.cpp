@@ -155,7 +155,8 @@ void SmoothingParameters::validate() const {
   if (!radius.valid())
     throw InputError("SmoothingParameters::radius", "",
                      "the window radius must be positive, got " + formatLength(radius));
-  if (passes < 1) throw InputError("SmoothingParameters::passes", "", "at least one pass, got " + std::to_string(passes));
+  if (passes < 1)
+    throw InputError("SmoothingParameters::passes", "", "at least one pass, got " + std::to_string(passes));
   if (!(max_normal_angle > 0))
     throw InputError("SmoothingParameters::max_normal_angle", "",
                      "expected an angle > 0 radians, got " + std::to_string(max_normal_angle));
@@ -164,7 +165,8 @@ void SmoothingParameters::validate() const {
   preselection.validate();
 }
 
-SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params, const ProgressCallback& progress) {
+SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params,
+                                 const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   validate(cloud, params);
   SmoothingReport summary;
@@ -175,7 +177,8 @@ SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& p
   if (params.radius.relative) summary.median_spacing_m = nearestNeighbourSpacing(cloud.positions).median;
   summary.radius_m = params.radius.metresFor(summary.median_spacing_m);
   if (!(summary.radius_m > 0))
-    throw InputError("SmoothingParameters::radius", "", "the median point spacing is 0 (duplicated points); give the radius in metres");
+    throw InputError("SmoothingParameters::radius", "",
+                     "the median point spacing is 0 (duplicated points); give the radius in metres");
 
   const std::vector<Eigen::Vector3d> original = cloud.positions;
   std::vector<int> cardinality;

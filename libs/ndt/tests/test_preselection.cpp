@@ -203,8 +203,10 @@ TEST(Preselection, ReappliedFromAttributesDecidesAsTheSmoothingDid) {
 }
 
 TEST(Preselection, BadInputIsAnInputError) {
-  EXPECT_EQ(icrkit::test::expectInputError([] { parsePreselectionRule("median"); }).source(), "PreselectionParameters::rule");
-  EXPECT_EQ(icrkit::test::expectInputError([] { parsePreselectionRule("median", "--preselection"); }).source(), "--preselection");
+  EXPECT_EQ(icrkit::test::expectInputError([] { parsePreselectionRule("median"); }).source(),
+            "PreselectionParameters::rule");
+  EXPECT_EQ(icrkit::test::expectInputError([] { parsePreselectionRule("median", "--preselection"); }).source(),
+            "--preselection");
   EXPECT_EQ(parsePreselectionRule("default"), PreselectionRule::Robust);
   EXPECT_EQ(parsePreselectionRule("paper-mean"), PreselectionRule::PaperMean);
   EXPECT_EQ(parsePreselectionRule("none"), PreselectionRule::None);
@@ -216,10 +218,13 @@ TEST(Preselection, BadInputIsAnInputError) {
   EXPECT_THROW(preselect({1, 2}, {1, 1}, bad), InputError);
   PreselectionParameters negative;
   negative.flatness_threshold = -1.0;
-  EXPECT_EQ(icrkit::test::expectInputError([&] { negative.validate(); }).source(), "PreselectionParameters::flatness_threshold");
+  EXPECT_EQ(icrkit::test::expectInputError([&] { negative.validate(); }).source(),
+            "PreselectionParameters::flatness_threshold");
   negative = {};
   negative.cardinality_threshold = std::nan("");
-  EXPECT_EQ(icrkit::test::expectInputError([&] { preselect({1, 2}, {1, 1}, negative); }).source(),
+  EXPECT_EQ(icrkit::test::expectInputError([&] {
+              preselect({1, 2}, {1, 1}, negative);
+            }).source(),
             "PreselectionParameters::cardinality_threshold");
   AttributeSet empty;
   try {

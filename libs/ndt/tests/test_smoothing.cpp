@@ -543,7 +543,8 @@ TEST(Smoothing, BadInputThrowsInputError) {
   EXPECT_EQ(icrkit::test::expectInputError([&] { params.validate(); }).source(), "SmoothingParameters::flatness_floor");
   params = {};
   params.preselection.flatness_threshold = -0.5;
-  EXPECT_EQ(icrkit::test::expectInputError([&] { params.validate(); }).source(), "PreselectionParameters::flatness_threshold");
+  EXPECT_EQ(icrkit::test::expectInputError([&] { params.validate(); }).source(),
+            "PreselectionParameters::flatness_threshold");
   EXPECT_NO_THROW(SmoothingParameters{}.validate());
   // All points in one place: no spacing to derive a radius from.
   PointCloud coincident;

@@ -175,7 +175,9 @@ void addRegistrationError(Json& record, const ReconstructionResult& result, cons
       {"reported", {{"raw", poseErrorJson(reported.raw)}, {"aligned", poseErrorJson(reported.aligned)}}}};
 }
 
-Json nullOr(const std::string& text) { return text.empty() ? Json(nullptr) : Json(text); }
+Json nullOr(const std::string& text) {
+  return text.empty() ? Json(nullptr) : Json(text);
+}
 
 void createDirectories(const fs::path& dir) {
   std::error_code error;
@@ -215,9 +217,9 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
   const std::size_t n = result.poses.size();
   if (input.ground_truth && input.ground_truth->poses.size() < n) {
     const std::size_t have = input.ground_truth->poses.size();
-    throw InputError(input.ground_truth->file, "scan " + std::to_string(have),
-                     "no ground-truth pose: the file has " + std::to_string(have) + " poses for " +
-                         std::to_string(n) + " scans");
+    throw InputError(
+        input.ground_truth->file, "scan " + std::to_string(have),
+        "no ground-truth pose: the file has " + std::to_string(have) + " poses for " + std::to_string(n) + " scans");
   }
   Json scans = Json::array();
   for (std::size_t i = 0; i < n; ++i) scans.push_back(scanJson(result, i));
@@ -235,11 +237,11 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
       {"crop_box_automatic", result.crop_box_automatic},
       {"scan_spacing_m", result.scan_spacing_m},
       {"range_correction", nullOr(input.range_correction_file)},
-      {"board", params.board ? Json{{"square_m", params.board->square_size},
-                                    {"origin_m", {params.board->origin.x(), params.board->origin.y(),
-                                                  params.board->origin.z()}},
-                                    {"poses_from_board", result.poses_from_board}}
-                             : Json(nullptr)},
+      {"board", params.board
+                    ? Json{{"square_m", params.board->square_size},
+                           {"origin_m", {params.board->origin.x(), params.board->origin.y(), params.board->origin.z()}},
+                           {"poses_from_board", result.poses_from_board}}
+                    : Json(nullptr)},
       {"registration", registrationJson(result, params)},
       {"fusion",
        {{"points_in", result.fusion.points_in},

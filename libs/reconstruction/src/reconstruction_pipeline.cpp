@@ -182,9 +182,10 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
                                                  return p.isApprox(result.reported_poses.front(), 1e-12);
                                                });
     if (!centre && one_pose)
-      throw InputError(rawlog, "", "every view has the same pose (a depth folder read without a pose file has none): "
-                                   "give the camera poses (ReconstructionParameters::pose_file, a TUM file) or the "
-                                   "object's region (ReconstructionParameters::crop_box)");
+      throw InputError(rawlog, "",
+                       "every view has the same pose (a depth folder read without a pose file has none): "
+                       "give the camera poses (ReconstructionParameters::pose_file, a TUM file) or the "
+                       "object's region (ReconstructionParameters::crop_box)");
     if (!centre)
       throw InputError(rawlog, "", "cannot place the crop box: the views' optical axes do not converge on an object "
                                    "(give the object's region explicitly)");

@@ -69,11 +69,11 @@ RegionPicture renderRegionViews(const TriangleMesh& mesh, const std::vector<int>
                                 const std::vector<RenderCamera>& cameras, const RenderStyle& style, int columns,
                                 bool central_points, const ProgressCallback& progress) {
   if (fingers.size() != regions.size())
-    throw InputError("regions", "", "expected one finger per region, got " + std::to_string(fingers.size()) +
-                                        " fingers for " + std::to_string(regions.size()) + " regions");
+    throw InputError("regions", "",
+                     "expected one finger per region, got " + std::to_string(fingers.size()) + " fingers for " +
+                         std::to_string(regions.size()) + " regions");
   RegionPicture picture;
-  picture.central_points =
-      central_points ? regionCentralPoints(mesh, regions) : std::vector<int>(regions.size(), -1);
+  picture.central_points = central_points ? regionCentralPoints(mesh, regions) : std::vector<int>(regions.size(), -1);
   SurfaceColours colours;
   if (!fingers.empty()) colours.per_vertex = regionColours(mesh, fingers, regions, style.base_colour);
   const std::vector<Marker> markers = graspMarkers(mesh, contacts, picture.central_points, style.width);
@@ -86,8 +86,8 @@ RegionPicture renderRegionViews(const TriangleMesh& mesh, const std::vector<int>
     if (progress) progress("render", i + 1, cameras.size());
   }
   const int count = static_cast<int>(cameras.size());
-  picture.columns = columns > 0 ? std::min(columns, count)
-                                : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
+  picture.columns =
+      columns > 0 ? std::min(columns, count) : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
   std::vector<LegendEntry> legend;
   std::vector<int> sorted = fingers;
   std::sort(sorted.begin(), sorted.end());

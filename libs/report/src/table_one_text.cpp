@@ -110,8 +110,12 @@ std::string tableOneCsv(const TableOne& table) {
   return out.str();
 }
 
-void writeTableOneMarkdown(const std::string& path, const TableOne& table) { writeFileAtomically(path, tableOneMarkdown(table)); }
-void writeTableOneCsv(const std::string& path, const TableOne& table) { writeFileAtomically(path, tableOneCsv(table)); }
+void writeTableOneMarkdown(const std::string& path, const TableOne& table) {
+  writeFileAtomically(path, tableOneMarkdown(table));
+}
+void writeTableOneCsv(const std::string& path, const TableOne& table) {
+  writeFileAtomically(path, tableOneCsv(table));
+}
 void writeResultsTables(const std::string& directory, const std::vector<eval::GraspRecord>& records,
                         const eval::TableOneOptions& options) {
   const std::filesystem::path dir(directory);

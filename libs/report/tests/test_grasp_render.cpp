@@ -107,7 +107,8 @@ TEST(GraspRender, RendersOfTheFirstEvaluatedGrasps) {
   const DatasetMeshes meshes{"same", &mesh, &mesh, &mesh};
   const DatasetExperiment experiment(meshes, config);
   const auto records = experiment.run(0, experiment.itemCount());
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("icrkit_renders_" + std::to_string(::getpid()));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("icrkit_renders_" + std::to_string(::getpid()));
   const std::vector<std::string> files = writeGraspRenders(dir.string(), meshes, config, records, 1);
   ASSERT_EQ(files.size(), 2u) << "filtered and raw of one grasp";
   EXPECT_EQ(files[0], RunFolder{dir.string()}.render(records.front(), "filtered"));

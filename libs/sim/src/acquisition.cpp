@@ -165,7 +165,8 @@ std::vector<View> planViews(const AcquisitionParameters& params, const Eigen::Al
   if (params.views <= 0)
     throw InputError("AcquisitionParameters::views", "", "expected at least one view, got " + std::to_string(params.views));
   if (params.distance && !(std::isfinite(*params.distance) && *params.distance > 0))
-    throw InputError("AcquisitionParameters::distance", "", "expected a finite distance > 0 m (or unset: the setup's default)");
+    throw InputError("AcquisitionParameters::distance", "",
+                     "expected a finite distance > 0 m (or unset: the setup's default)");
   if (object_bounds.isEmpty()) throw InputError("object", "", "the object has no vertices");
   const double distance = params.distance.value_or(params.setup == Setup::A ? 0.6 : 0.7);
   const Eigen::Vector3d centre = object_bounds.center();

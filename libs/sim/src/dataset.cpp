@@ -97,7 +97,7 @@ std::string datasetName(const DatasetSpec& spec) {
 }
 
 SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& directory,
-                               const ProgressCallback& progress) {
+                                 const ProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path target(directory);
   checkTarget(target);

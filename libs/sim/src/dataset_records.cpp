@@ -16,8 +16,7 @@ std::vector<DatasetSpec> paperDatasets(const std::vector<std::string>& names) {
   if (names.empty()) return all;
   std::vector<DatasetSpec> chosen;
   for (const std::string& name : names) {
-    const auto it =
-        std::find_if(all.begin(), all.end(), [&](const DatasetSpec& s) { return datasetName(s) == name; });
+    const auto it = std::find_if(all.begin(), all.end(), [&](const DatasetSpec& s) { return datasetName(s) == name; });
     if (it == all.end()) {
       std::string known;
       for (const DatasetSpec& s : all) known += (known.empty() ? "" : ", ") + datasetName(s);
@@ -30,7 +29,8 @@ std::vector<DatasetSpec> paperDatasets(const std::vector<std::string>& names) {
 
 std::string datasetFolderName(const DatasetSpec& spec, const std::string& pose_error) {
   std::string tag = pose_error;
-  std::transform(tag.begin(), tag.end(), tag.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(tag.begin(), tag.end(), tag.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (tag == "arm") return datasetName(spec);
   std::replace(tag.begin(), tag.end(), ',', '_');
   return datasetName(spec) + "_" + tag;

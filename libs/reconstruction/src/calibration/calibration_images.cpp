@@ -36,8 +36,9 @@ std::vector<GrayImage> readGrayImages(const std::string& folder, std::vector<std
     image.width = m.cols;
     image.height = m.rows;
     image.pixels.resize(static_cast<std::size_t>(m.cols) * static_cast<std::size_t>(m.rows));
-    for (int r = 0; r < m.rows; ++r) std::copy(m.ptr<std::uint8_t>(r), m.ptr<std::uint8_t>(r) + m.cols,
-                                               image.pixels.begin() + static_cast<std::ptrdiff_t>(r) * m.cols);
+    for (int r = 0; r < m.rows; ++r)
+      std::copy(m.ptr<std::uint8_t>(r), m.ptr<std::uint8_t>(r) + m.cols,
+                image.pixels.begin() + static_cast<std::ptrdiff_t>(r) * m.cols);
     images.push_back(std::move(image));
     if (names) names->push_back(file.filename().string());
   }

@@ -283,7 +283,8 @@ struct TumFolderReader::Impl {
     }
     if (!(camera.intrinsics.fx > 0))
       throw InputError(
-          folder, "", "no camera intrinsics: give fx, fy, cx, cy (DepthCameraOptions::intrinsics) or a camera.json in the folder");
+          folder, "",
+          "no camera intrinsics: give fx, fy, cx, cy (DepthCameraOptions::intrinsics) or a camera.json in the folder");
     if (options.camera.depth_scale) {
       if (!(std::isfinite(*options.camera.depth_scale) && *options.camera.depth_scale > 0))
         throw InputError("DepthCameraOptions::depth_scale", "", "expected the depth counts per metre (> 0)");

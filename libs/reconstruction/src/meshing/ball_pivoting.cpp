@@ -827,7 +827,8 @@ std::vector<double> radiiFor(const BallPivotingParameters& params, const Spacing
                      "metres");
   std::vector<double> radii;
   for (const Length& r : params.radii) radii.push_back(r.metresFor(spacing));
-  const bool all_relative = std::all_of(params.radii.begin(), params.radii.end(), [](const Length& r) { return r.relative; });
+  const bool all_relative =
+      std::all_of(params.radii.begin(), params.radii.end(), [](const Length& r) { return r.relative; });
   const double gap = params.gap_radius_factor * spacing_stats.p90;
   if (all_relative && params.gap_radius_factor > 0.0 && std::isfinite(gap) && gap > 3.0 * spacing) radii.push_back(gap);
   for (double r : radii)
@@ -842,7 +843,8 @@ std::vector<double> radiiFor(const BallPivotingParameters& params, const Spacing
 
 std::vector<double> ballPivotingRadii(const PointCloud& cloud, const BallPivotingParameters& params) {
   params.validate();
-  return radiiFor(params, anyRelative(params.radii) ? spacingOf(nearestNeighbourDistances(cloud.positions)) : Spacing{});
+  return radiiFor(params,
+                  anyRelative(params.radii) ? spacingOf(nearestNeighbourDistances(cloud.positions)) : Spacing{});
 }
 
 void BallPivotingParameters::validate() const {

@@ -25,8 +25,7 @@ struct FingerIntersection {
 /// InputError("reconstructed regions" or "CAD regions", "", "has no region
 /// for finger N, ...") otherwise, and InputError("CAD regions" or
 /// "reconstructed regions") when a side's finger and region counts differ.
-std::vector<FingerIntersection> intersectByFinger(const IntersectionEstimator& cad,
-                                                  const std::vector<int>& cad_fingers,
+std::vector<FingerIntersection> intersectByFinger(const IntersectionEstimator& cad, const std::vector<int>& cad_fingers,
                                                   const std::vector<std::vector<int>>& cad_regions,
                                                   const TriangleMesh& scan, const std::vector<int>& scan_fingers,
                                                   const std::vector<std::vector<int>>& scan_regions);

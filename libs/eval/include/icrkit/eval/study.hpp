@@ -49,13 +49,13 @@ struct StudyDatasetReport {
   std::size_t cad_vertices = 0, raw_vertices = 0, filtered_vertices = 0;
   double lambda_m = 0.0;  ///< the common wrench frame's lambda (DatasetExperiment::cadLambda)
   std::vector<std::pair<std::size_t, std::size_t>> grasps_sampled;  ///< (finger count, CAD grasps sampled)
-  std::size_t first_record = 0, record_count = 0;  ///< its records in StudyResult::records
+  std::size_t first_record = 0, record_count = 0;                   ///< its records in StudyResult::records
   double meshes_ms = 0.0, evaluate_ms = 0.0, after_ms = 0.0;
 };
 
 struct StudyResult {
-  std::vector<GraspRecord> records;     ///< the shard's, in dataset order, each dataset's sorted
-  std::vector<StudyDatasetReport> datasets;   ///< the datasets the shard touched, in study order
+  std::vector<GraspRecord> records;          ///< the shard's, in dataset order, each dataset's sorted
+  std::vector<StudyDatasetReport> datasets;  ///< the datasets the shard touched, in study order
 };
 
 /// Runs the shard's part of the study over `datasets` (names, in order).

@@ -12,8 +12,8 @@
 namespace icrkit::icr {
 
 struct SnappedContacts {
-  std::vector<int> vertices;         ///< one per point: its nearest vertex some face uses
-  std::vector<double> distances_m;   ///< how far each point moved
+  std::vector<int> vertices;        ///< one per point: its nearest vertex some face uses
+  std::vector<double> distances_m;  ///< how far each point moved
 };
 
 /// Each point's nearest vertex among those some face uses (only they can

@@ -46,7 +46,8 @@ enum class PreselectionRule { Robust, PaperMean, None };
 const char* preselectionRuleName(PreselectionRule rule);
 /// Parses those names (and "robust" for "default"); InputError naming
 /// `source` otherwise.
-PreselectionRule parsePreselectionRule(const std::string& name, const std::string& source = "PreselectionParameters::rule");
+PreselectionRule parsePreselectionRule(const std::string& name,
+                                       const std::string& source = "PreselectionParameters::rule");
 /// The rules in the order reports list them: default, paper-mean, none.
 std::vector<PreselectionRule> allPreselectionRules();
 
@@ -114,6 +115,6 @@ Preselection preselect(const std::vector<double>& cardinality, const std::vector
 /// `excluded` flags (uchar); with rule none the flags are all 0. InputError
 /// naming `source` when an attribute is missing or has the wrong length.
 PreselectionReport applyPreselection(AttributeSet& attributes, std::size_t count, const PreselectionParameters& params,
-                                      const std::string& source);
+                                     const std::string& source);
 
 }  // namespace icrkit::ndt

@@ -88,7 +88,7 @@ using SmoothingSummary [[deprecated("use SmoothingReport")]] = SmoothingReport;
 /// than 3 points keeps its input normal, or gets none when the cloud had none). Throws InputError for an empty
 /// cloud, a non-finite coordinate (naming the point), r <= 0 or passes < 1.
 SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& params = {},
-                                  const ProgressCallback& progress = {});
+                                 const ProgressCallback& progress = {});
 
 /// Flatness sqrt(l2 / max(l3, floor * l2)); 0 when l2 = 0 (the window is a
 /// point or a line: not a surface).

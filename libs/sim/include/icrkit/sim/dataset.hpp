@@ -66,7 +66,7 @@ using DatasetSummary [[deprecated("use SimulationReport")]] = SimulationReport;
 /// folder first and renamed into place at the end. Throws InputError for an
 /// unknown object, unreadable mesh, bad parameters or an unwritable folder.
 SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& directory,
-                               const ProgressCallback& progress = {});
+                                 const ProgressCallback& progress = {});
 
 /// What was simulated, as the JSON object `icrkit simulate` prints (keys
 /// sorted): name, directory, object (its name or mesh file), sensor, setup,
