@@ -81,13 +81,8 @@ void run(const GraspsOptions& options, CommandContext& context) {
       {"grasps_per_second",
        statistics.time_ms > 0 ? static_cast<double>(grasps.size()) / (statistics.time_ms / 1000.0) : 0.0},
       {"model", nlohmann::json::parse(icr::contactModelJson(model))},
-      {"torque_reference", icr::torqueReferenceName(options.mesh.torque_reference)},
-      {"normals", input.normals_computed ? "computed" : "file"},
-      {"exclusion", input.exclusion_source},
-      {"excluded_vertices", countExcluded(input.excluded)},
-      {"vertices", input.mesh.vertexCount()},
-      {"unreferenced_vertices", unreferenced},
       {"time_ms", {{"read", read_ms}, {"sampling", statistics.time_ms}, {"total", context.elapsedMs()}}}};
+  summary.update(graspMeshJson(input, options.mesh, unreferenced));
 
   if (options.output.empty()) {
     // Without -o the grasps still have to reach the user without breaking

@@ -93,16 +93,11 @@ void run(const IcrOptions& options, CommandContext& context) {
                                                           {"radius_m", patch->radius_m},
                                                           {"filter_border", patch->filter_border}}
                                          : nlohmann::json(nullptr)},
-                         {"torque_reference", icr::torqueReferenceName(options.mesh.torque_reference)},
-                         {"normals", input.normals_computed ? "computed" : "file"},
-                         {"exclusion", input.exclusion_source},
-                         {"excluded_vertices", countExcluded(input.excluded)},
-                         {"vertices", input.mesh.vertexCount()},
-                         {"unreferenced_vertices", unreferenced},
                          {"vertices_tested", result.vertices_tested},
                          {"mesh", path},
                          {"output", options.output},
                          {"summary", summary_path}};
+  summary.update(graspMeshJson(input, options.mesh, unreferenced));
   if (!snap_distances.is_null()) summary["contact_snap_distance_m"] = snap_distances;
   summary["time_ms"] = {{"read", read_ms},
                         {"hull", result.timings.hull_ms},

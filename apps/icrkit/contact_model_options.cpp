@@ -117,6 +117,15 @@ std::size_t countExcluded(const std::vector<std::uint8_t>& mask) {
   return static_cast<std::size_t>(std::count_if(mask.begin(), mask.end(), [](std::uint8_t f) { return f != 0; }));
 }
 
+nlohmann::json graspMeshJson(const GraspMesh& input, const GraspMeshOptions& options, std::size_t unreferenced) {
+  return {{"torque_reference", icr::torqueReferenceName(options.torque_reference)},
+          {"normals", input.normals_computed ? "computed" : "file"},
+          {"exclusion", input.exclusion_source},
+          {"excluded_vertices", countExcluded(input.excluded)},
+          {"vertices", input.mesh.vertexCount()},
+          {"unreferenced_vertices", unreferenced}};
+}
+
 CLI::Validator atLeast(long long minimum) {
   return CLI::Validator(
       [minimum](std::string& value) -> std::string {

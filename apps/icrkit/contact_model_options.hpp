@@ -60,6 +60,11 @@ InputError namingMesh(const std::string& path, const InputError& error);
 /// Number of non-zero flags.
 std::size_t countExcluded(const std::vector<std::uint8_t>& mask);
 
+/// What a summary says of the mesh a grasp command read: torque_reference,
+/// normals ("computed" or "file"), exclusion, excluded_vertices, vertices,
+/// unreferenced_vertices (`unreferenced`: vertices no face uses).
+nlohmann::json graspMeshJson(const GraspMesh& input, const GraspMeshOptions& options, std::size_t unreferenced);
+
 /// A CLI11 check for integers >= `minimum`.
 CLI::Validator atLeast(long long minimum);
 
