@@ -40,14 +40,14 @@ eval::StudyMeshes datasetMeshes(const PaperOptions& o, const sim::DatasetSpec& s
   const eval::RunFolder folder{o.output};
   const std::string name = sim::datasetName(spec);
   double start = context.elapsedMs();
-  if (!(o.reuse && fs::exists(fs::path(folder.datasetDir(name)) / "manifest.json"))) {
+  if (!(o.reuse && folder.hasRecording(name))) {
     context.note(prefix + "simulating");
     sim::simulateDataset(spec, folder.datasetDir(name), progress);
   }
   times["simulate"] = context.elapsedMs() - start;
   start = context.elapsedMs();
   eval::StudyMeshes meshes{{}, {}, {}, folder.cadMesh(name), folder.rawMesh(name), folder.filteredMesh(name)};
-  const bool reused = o.reuse && fs::exists(meshes.filtered_file) && fs::exists(meshes.raw_file);
+  const bool reused = o.reuse && folder.hasReconstruction(name);
   if (reused) {
     meshes.raw = io::readTriangleMesh(meshes.raw_file);
     meshes.filtered = io::readTriangleMesh(meshes.filtered_file);

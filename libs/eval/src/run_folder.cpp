@@ -25,6 +25,16 @@ std::string join(const std::string& dir, const std::string& a, const std::string
 std::string RunFolder::records() const { return join(dir, "grasps.jsonl"); }
 std::string RunFolder::runJson() const { return join(dir, "run.json"); }
 std::string RunFolder::renders() const { return join(dir, "renders"); }
+bool RunFolder::hasRecording(const std::string& dataset) const {
+  std::error_code error;
+  return fs::exists(join(dir, "datasets", dataset, "manifest.json"), error);
+}
+
+bool RunFolder::hasReconstruction(const std::string& dataset) const {
+  std::error_code error;
+  return fs::exists(rawMesh(dataset), error) && fs::exists(filteredMesh(dataset), error);
+}
+
 std::string RunFolder::render(const GraspRecord& record, const std::string& label) const {
   return join(dir, "renders", renderStem(record) + label + ".png");
 }

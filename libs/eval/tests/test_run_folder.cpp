@@ -6,6 +6,7 @@
 #include <test_support.hpp>
 
 #include <filesystem>
+#include <fstream>
 
 namespace icrkit::eval {
 namespace {
@@ -99,6 +100,21 @@ TEST(RunFolder, RelativeMeshPathsAreTriedFromTheRunFolder) {
   ASSERT_TRUE(files.has_value());
   EXPECT_EQ(files->raw, (scratch.path() / "meshes/raw.ply").string()) << "found in the run folder";
   EXPECT_EQ(files->cad, "meshes/cad.ply") << "found nowhere: kept as recorded";
+}
+
+TEST(RunFolder, WhatReuseMayKeep) {
+  test::ScratchDir dir;
+  const RunFolder folder{dir.path().string()};
+  EXPECT_FALSE(folder.hasRecording("cup_kinect_B"));
+  std::filesystem::create_directories(folder.datasetDir("cup_kinect_B"));
+  EXPECT_FALSE(folder.hasRecording("cup_kinect_B")) << "an interrupted simulation has no manifest";
+  std::ofstream(std::filesystem::path(folder.datasetDir("cup_kinect_B")) / "manifest.json") << "{}";
+  EXPECT_TRUE(folder.hasRecording("cup_kinect_B"));
+  std::filesystem::create_directories(folder.reconstructionDir("cup_kinect_B"));
+  std::ofstream(folder.rawMesh("cup_kinect_B")) << "ply";
+  EXPECT_FALSE(folder.hasReconstruction("cup_kinect_B")) << "the filtered mesh is missing";
+  std::ofstream(folder.filteredMesh("cup_kinect_B")) << "ply";
+  EXPECT_TRUE(folder.hasReconstruction("cup_kinect_B"));
 }
 
 }  // namespace

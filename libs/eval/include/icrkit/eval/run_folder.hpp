@@ -9,6 +9,7 @@
 ///     DIR/renders/*.png                 Fig. 6 pictures of evaluated grasps
 ///     DIR/datasets/NAME/object.ply      paper: the dataset's CAD mesh (and its recording)
 ///     DIR/reconstructions/NAME/{raw,filtered}.ply   paper: its reconstruction
+///     (`paper --reuse` keeps both when they are complete: hasRecording, hasReconstruction)
 ///
 /// `evaluate` records the paths of the meshes it was given in run.json's
 /// "datasets" instead.
@@ -32,6 +33,11 @@ struct RunFolder {
   std::string reconstructionDir(const std::string& dataset) const;  ///< DIR/reconstructions/NAME
   std::string rawMesh(const std::string& dataset) const;            ///< .../raw.ply
   std::string filteredMesh(const std::string& dataset) const;       ///< .../filtered.ply
+  /// What `--reuse` may keep from an earlier run: a finished recording
+  /// (datasets/NAME/manifest.json, written last by the simulator) and a
+  /// finished reconstruction (both meshes).
+  bool hasRecording(const std::string& dataset) const;
+  bool hasReconstruction(const std::string& dataset) const;
   /// DIR/renders/DATASET_<F>fingers_grasp<I>_<label>.png: the Fig. 6
   /// picture of one grasp against the `label` ("filtered", "raw") mesh.
   std::string render(const GraspRecord& record, const std::string& label) const;
