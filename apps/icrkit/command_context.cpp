@@ -73,4 +73,10 @@ void writeSummaryFile(const std::string& path, const nlohmann::json& summary) {
   writeFileAtomically(path, [&text](std::ostream& out) { out << text; }, false);
 }
 
+void requireOutputFolder(const std::string& output) {
+  std::error_code error;
+  if (std::filesystem::exists(output, error) && !std::filesystem::is_directory(output, error))
+    throw InputError(output, "", "exists and is not a directory");
+}
+
 }  // namespace icrkit::app

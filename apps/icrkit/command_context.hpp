@@ -53,4 +53,7 @@ std::string summaryPathFor(const std::string& output);
 /// Writes `summary` (one line of JSON) atomically to `path`.
 void writeSummaryFile(const std::string& path, const nlohmann::json& summary);
 
+/// An output folder: InputError naming it when it exists and is not a directory.
+void requireOutputFolder(const std::string& output);
+
 }  // namespace icrkit::app

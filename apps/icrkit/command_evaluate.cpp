@@ -9,6 +9,7 @@
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/results_tables.hpp>
 #include <icrkit/eval/run_folder.hpp>
+#include <icrkit/eval/study.hpp>
 #include <icrkit/report/experiment_outputs.hpp>
 #include <icrkit/report/grasp_render.hpp>
 
@@ -47,9 +48,8 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   const double align_ms = context.elapsedMs() - align_start;
 
   const double prepare_start = context.elapsedMs();
-  const auto experiment = namingMeshFiles(
-      [&] { return std::make_unique<eval::DatasetExperiment>(eval::DatasetMeshes{name, &cad, &raw, &filtered}, config); },
-      {{"CAD mesh", o.cad}, {"raw mesh", o.raw}, {"filtered mesh", o.filtered}});
+  const auto experiment =
+      eval::experimentNamingFiles(eval::DatasetMeshes{name, &cad, &raw, &filtered}, config, {o.cad, o.raw, o.filtered});
   const double prepare_ms = context.elapsedMs() - prepare_start;
   const auto [begin, end] = shard.range(config.nominalItems());
   context.note("evaluating " + std::to_string(end - begin) + " of " + std::to_string(experiment->itemCount()) +

@@ -47,7 +47,7 @@ void run(const IcrOptions& options, CommandContext& context) {
   if (options.contacts.empty() == options.contact_points.empty())
     throw InputError("--contacts", "", "give the grasp either as --contacts i,j,... or as --contact-points x,y,z;...");
   const icr::IcrParameters params = icrParameters(options);
-  const std::optional<icr::PatchParameters> patch = patchParameters(options);
+  const std::optional<icr::PatchParameters> patch = patchParameters(options, params);
 
   const double read_start = context.elapsedMs();
   const GraspMesh input = loadGraspMesh(options.mesh, context);

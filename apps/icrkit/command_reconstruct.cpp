@@ -16,22 +16,20 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <system_error>
 
 namespace icrkit::app {
 namespace {
 
 nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& context) {
   const reconstruction::ReconstructionParameters params = reconstructionParameters(options);
+  // Bad values fail before the ground truth is read (reconstructRawlog checks them again).
   reconstruction::validateReconstructionParameters(params);
   reconstruction::ReconstructionRecordInput record{options.input, options.output, options.range_correction, {}};
   // The ground truth is read (and for a folder matched to its frames)
   // before the long run, so that a bad file fails at once.
   if (!options.gt_poses.empty())
     record.ground_truth = reconstruction::readGroundTruthPoses(options.input, options.gt_poses, params);
-  std::error_code error;
-  if (std::filesystem::exists(options.output, error) && !std::filesystem::is_directory(options.output, error))
-    throw InputError(options.output, "", "exists and is not a directory");
+  requireOutputFolder(options.output);
 
   const reconstruction::ReconstructionResult result =
       reconstruction::reconstructRawlog(options.input, params, context.progress());

@@ -64,9 +64,7 @@ struct DatasetsOptions {
 
 nlohmann::json makeDatasets(const DatasetsOptions& o, CommandContext& context) {
   const sim::PoseErrorModel errors = sim::parsePoseErrorModel(o.pose_error);
-  std::vector<std::string> names;
-  if (!o.only.empty()) names = split(o.only, ',');
-  std::vector<sim::DatasetSpec> specs = sim::paperDatasets(names);
+  std::vector<sim::DatasetSpec> specs = sim::paperDatasets(split(o.only, ','));  // none named: all nine
   nlohmann::json made = nlohmann::json::array();
   for (sim::DatasetSpec& spec : specs) {
     spec.acquisition.errors = errors;

@@ -11,7 +11,6 @@
 #include <icrkit/eval/study.hpp>
 
 #include <cmath>
-#include <filesystem>
 
 namespace icrkit::app {
 
@@ -154,18 +153,6 @@ nlohmann::json ExperimentOptions::applyPreselection(TriangleMesh& filtered, cons
   return preselectionJson(ndt::applyPreselection(filtered.vertices.attributes, filtered.vertexCount(), params, path));
 }
 
-std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
-    const std::function<std::unique_ptr<eval::DatasetExperiment>()>& make,
-    const std::map<std::string, std::string>& files) {
-  try {
-    return make();
-  } catch (const InputError& error) {
-    const auto it = files.find(error.source());
-    if (it == files.end()) throw;
-    throw InputError(it->second, error.location(), error.detail() + " (" + it->first + ")");
-  }
-}
-
 nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh, const TriangleMesh& cad,
                             const std::string& name, const std::string& path) {
   if (options.align != "icp") return nullptr;
@@ -198,12 +185,6 @@ TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandC
     context.note("icrkit: " + path + ": vertex normals computed from the faces");
   }
   return mesh;
-}
-
-void requireOutputFolder(const std::string& output) {
-  std::error_code error;
-  if (std::filesystem::exists(output, error) && !std::filesystem::is_directory(output, error))
-    throw InputError(output, "", "exists and is not a directory");
 }
 
 std::string frameWarning(const std::vector<eval::GraspRecord>& records, const std::string& dataset) {

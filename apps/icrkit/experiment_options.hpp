@@ -11,9 +11,6 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include <functional>
-#include <map>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,9 +62,6 @@ struct ExperimentOptions {
 /// InputError naming the file and --compute-normals.
 TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandContext& context);
 
-/// InputError when `output` exists and is not a directory.
-void requireOutputFolder(const std::string& output);
-
 /// A warning when most grasps of `records` could not be moved onto a
 /// reconstructed mesh at all (meshes in different frames or units); empty
 /// when all is well.
@@ -78,11 +72,5 @@ std::string frameWarning(const std::vector<eval::GraspRecord>& records, const st
 /// nothing (null). A failed alignment is an InputError naming `path`.
 nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh, const TriangleMesh& cad,
                             const std::string& name, const std::string& path);
-
-/// Runs `make` and renames an InputError about "CAD mesh", "raw mesh" or
-/// "filtered mesh" to the file it came from.
-std::unique_ptr<eval::DatasetExperiment> namingMeshFiles(
-    const std::function<std::unique_ptr<eval::DatasetExperiment>()>& make,
-    const std::map<std::string, std::string>& files);
 
 }  // namespace icrkit::app

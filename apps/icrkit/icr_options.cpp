@@ -91,7 +91,7 @@ icr::IcrParameters icrParameters(const IcrOptions& options) {
   return params;
 }
 
-std::optional<icr::PatchParameters> patchParameters(const IcrOptions& options) {
+std::optional<icr::PatchParameters> patchParameters(const IcrOptions& options, const icr::IcrParameters& params) {
   if (!options.patch_radius) {
     if (options.patch_all_points) throw InputError("--patch-all-points", "", "only with --patch-radius");
     return std::nullopt;
@@ -100,7 +100,7 @@ std::optional<icr::PatchParameters> patchParameters(const IcrOptions& options) {
   patch.radius_m = *options.patch_radius;
   patch.filter_border = !options.patch_all_points;
   patch.validate();
-  if (options.conservative.growth())
+  if (params.conservative)
     throw InputError("--patch-radius", "", "patch contacts cannot be combined with --conservative yet");
   return patch;
 }

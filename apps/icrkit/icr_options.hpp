@@ -43,7 +43,8 @@ std::vector<Eigen::Vector3d> parseContactPoints(const std::string& text);
 icr::IcrParameters icrParameters(const IcrOptions& options);
 
 /// The patch contacts --patch-radius asks for (checked: the library names
-/// PatchParameters::radius_m), nothing without it.
-std::optional<icr::PatchParameters> patchParameters(const IcrOptions& options);
+/// PatchParameters::radius_m), nothing without it; `params` are the regions'
+/// (patches do not combine with conservative growth).
+std::optional<icr::PatchParameters> patchParameters(const IcrOptions& options, const icr::IcrParameters& params);
 
 }  // namespace icrkit::app

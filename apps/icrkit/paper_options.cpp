@@ -26,8 +26,7 @@ void addPaperOptions(CLI::App& command, PaperOptions& o) {
 }
 
 std::vector<sim::DatasetSpec> chosenDatasets(const PaperOptions& o) {
-  std::vector<sim::DatasetSpec> specs =
-      sim::paperDatasets(o.datasets.empty() ? std::vector<std::string>{} : split(o.datasets, ','));
+  std::vector<sim::DatasetSpec> specs = sim::paperDatasets(split(o.datasets, ','));  // none named: all nine
   if (o.views < 0) throw InputError("--views", "", "expected 0 (the dataset's own) or a positive count");
   if (o.views > 0)
     for (sim::DatasetSpec& s : specs) s.acquisition.views = o.views;
@@ -46,11 +45,11 @@ eval::StudyMeshes datasetMeshes(const PaperOptions& o, const sim::DatasetSpec& s
   }
   times["simulate"] = context.elapsedMs() - start;
   start = context.elapsedMs();
-  eval::StudyMeshes meshes{{}, {}, {}, folder.cadMesh(name), folder.rawMesh(name), folder.filteredMesh(name)};
+  eval::StudyMeshes meshes{{}, {}, {}, {folder.cadMesh(name), folder.rawMesh(name), folder.filteredMesh(name)}};
   const bool reused = o.reuse && folder.hasReconstruction(name);
   if (reused) {
-    meshes.raw = io::readTriangleMesh(meshes.raw_file);
-    meshes.filtered = io::readTriangleMesh(meshes.filtered_file);
+    meshes.raw = io::readTriangleMesh(meshes.files.raw);
+    meshes.filtered = io::readTriangleMesh(meshes.files.filtered);
   } else {
     context.note(prefix + "reconstructing");
     reconstruction::ReconstructionParameters params;
@@ -62,8 +61,8 @@ eval::StudyMeshes datasetMeshes(const PaperOptions& o, const sim::DatasetSpec& s
     std::error_code error;
     fs::create_directories(folder.reconstructionDir(name), error);
     if (error) throw InputError(folder.reconstructionDir(name), "", "cannot create the directory: " + error.message());
-    io::writeTriangleMesh(meshes.raw_file, result.raw_mesh);
-    io::writeTriangleMesh(meshes.filtered_file, result.filtered_mesh);
+    io::writeTriangleMesh(meshes.files.raw, result.raw_mesh);
+    io::writeTriangleMesh(meshes.files.filtered, result.filtered_mesh);
     meshes.raw = std::move(result.raw_mesh);
     meshes.filtered = std::move(result.filtered_mesh);
   }
@@ -71,8 +70,8 @@ eval::StudyMeshes datasetMeshes(const PaperOptions& o, const sim::DatasetSpec& s
   // A reused reconstruction is decided again by the rule asked for (from
   // the smoothing's attributes), so one set of meshes serves every rule.
   info["preselection"] =
-      reused ? o.experiment.applyPreselection(meshes.filtered, meshes.filtered_file) : nlohmann::json();
-  meshes.cad = io::readTriangleMesh(meshes.cad_file);
+      reused ? o.experiment.applyPreselection(meshes.filtered, meshes.files.filtered) : nlohmann::json();
+  meshes.cad = io::readTriangleMesh(meshes.files.cad);
   info["alignment"] = nlohmann::json::array();
   for (auto [mesh, label] :
        {std::pair<TriangleMesh*, const char*>{&meshes.raw, "raw.ply"}, {&meshes.filtered, "filtered.ply"}}) {

@@ -3,22 +3,20 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/number_text.hpp>
 
+#include "io/text_scanner.hpp"
+
 #include <cmath>
-#include <locale>
-#include <sstream>
+#include <string_view>
 
 namespace icrkit {
 namespace {
 
-// Whole-token parsing: "12y", "" or "nan" fail instead of giving 12 or 0;
-// the classic locale, whatever the user's, reads the decimal point.
-bool parseWholeNumber(const std::string& text, double& value) {
-  std::istringstream in(text);
-  in.imbue(std::locale::classic());
-  in >> value;
-  if (in.fail() || !std::isfinite(value)) return false;
-  in >> std::ws;
-  return in.eof();
+// The whole token as a finite number (the text readers' parser, which no
+// locale changes); blanks around it, as in "1.5x, 2.5x", are allowed.
+bool parseWholeNumber(std::string_view text, double& value) {
+  while (!text.empty() && io::detail::isBlank(text.front())) text.remove_prefix(1);
+  while (!text.empty() && io::detail::isBlank(text.back())) text.remove_suffix(1);
+  return io::detail::parseNumber(text, value) && std::isfinite(value);
 }
 
 std::vector<std::string> splitAtCommas(const std::string& text) {
@@ -45,7 +43,9 @@ bool Length::valid() const {
 Length parseLength(const std::string& source, const std::string& text) {
   Length length;
   length.relative = !text.empty() && (text.back() == 'x' || text.back() == 'X');
-  if (!parseWholeNumber(length.relative ? text.substr(0, text.size() - 1) : text, length.value))
+  const std::string_view number =
+      length.relative ? std::string_view(text).substr(0, text.size() - 1) : std::string_view(text);
+  if (!parseWholeNumber(number, length.value))
     throw InputError(
         source, "",
         "expected metres (e.g. 0.004) or a multiple of the median point spacing (e.g. 4x), got '" + text + "'");

@@ -62,8 +62,9 @@ MappingTarget::MappingTarget(const TriangleMesh& mesh, const MappingParameters& 
     : mesh_(&mesh),
       caster_(mesh),
       tree_(mesh.vertices.positions),
-      radius_((params.validate(), params.neighbourhood_radius.value_or(0.0))),
+      radius_(params.neighbourhood_radius.value_or(0.0)),
       max_line_distance_(params.max_line_distance) {
+  params.validate();
   if (mesh.faces.empty()) throw InputError(kSource, "target mesh", "the target mesh has no faces");
   // Vertices that no face uses (points ball pivoting left unmeshed) are not
   // part of the surface: the mappings never choose them.

@@ -23,21 +23,20 @@ ProgressCallback prefixed(const ProgressCallback& progress, const std::string& p
   };
 }
 
-// The experiment on the meshes; an InputError about one of them names its file.
-std::unique_ptr<DatasetExperiment> experimentOn(const DatasetMeshes& meshes, const StudyMeshes& files,
-                                                const ExperimentConfig& config) {
+}  // namespace
+
+std::unique_ptr<DatasetExperiment> experimentNamingFiles(const DatasetMeshes& meshes, const ExperimentConfig& config,
+                                                         const RunMeshFiles& files) {
   try {
     return std::make_unique<DatasetExperiment>(meshes, config);
   } catch (const InputError& error) {
     const std::map<std::string, std::string> names{
-        {"CAD mesh", files.cad_file}, {"raw mesh", files.raw_file}, {"filtered mesh", files.filtered_file}};
+        {"CAD mesh", files.cad}, {"raw mesh", files.raw}, {"filtered mesh", files.filtered}};
     const auto it = names.find(error.source());
     if (it == names.end() || it->second.empty()) throw;
     throw InputError(it->second, error.location(), error.detail() + " (" + it->first + ")");
   }
 }
-
-}  // namespace
 
 StudyResult runStudy(const std::vector<std::string>& datasets, const ExperimentConfig& config, const Shard& shard,
                      const StudyStages& stages, const ProgressCallback& progress) {
@@ -62,7 +61,7 @@ StudyResult runStudy(const std::vector<std::string>& datasets, const ExperimentC
 
     start = Clock::now();
     const DatasetMeshes view{name, &meshes.cad, &meshes.raw, &meshes.filtered};
-    const std::unique_ptr<DatasetExperiment> experiment = experimentOn(view, meshes, config);
+    const std::unique_ptr<DatasetExperiment> experiment = experimentNamingFiles(view, config, meshes.files);
     const std::size_t local_begin = std::max(begin, first) - first, local_end = std::min(end, last) - first;
     if (stages.note)
       stages.note(prefix + "evaluating grasps " + std::to_string(local_begin) + ".." + std::to_string(local_end));

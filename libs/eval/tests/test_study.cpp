@@ -38,9 +38,7 @@ StudyStages ellipsoidStages(std::vector<std::string>* asked) {
     m.cad = test::ellipsoid(3);
     m.raw = test::noisyCopy(m.cad, 2e-4, 10 + static_cast<unsigned>(position));
     m.filtered = test::noisyCopy(m.cad, 1e-4, 20 + static_cast<unsigned>(position));
-    m.cad_file = name + "/object.ply";
-    m.raw_file = name + "/raw.ply";
-    m.filtered_file = name + "/filtered.ply";
+    m.files = {name + "/object.ply", name + "/raw.ply", name + "/filtered.ply"};
     return m;
   };
   return stages;
@@ -90,7 +88,7 @@ TEST(Study, StagesAreCalledAndMeshErrorsNameTheFile) {
     m.raw = m.cad;
     m.filtered = m.cad;
     m.filtered.faces.clear();
-    m.filtered_file = "rec/filtered.ply";
+    m.files.filtered = "rec/filtered.ply";
     return m;
   };
   const InputError error = icrkit::test::expectInputError([&] { runStudy({"x"}, smallConfig(), Shard{}, broken); });

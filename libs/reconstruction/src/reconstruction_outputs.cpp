@@ -4,6 +4,7 @@
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/ndt/preselection_record.hpp>
 #include <icrkit/reconstruction/input/scan_source.hpp>
+#include <icrkit/reconstruction/meshing/ball_pivoting_record.hpp>
 #include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 #include <icrkit/reconstruction/registration/trajectory_error.hpp>
 
@@ -32,27 +33,16 @@ Json poseErrorJson(const PoseErrorSeries& s) {
           {"max_rotation_deg", s.max_rotation_rad * kDeg}};
 }
 
-std::vector<double> passRadii(const BallPivotingReport& r) {
-  std::vector<double> radii;
-  for (const auto& pass : r.passes) radii.push_back(pass.radius);
-  return radii;
-}
-
+// The ball pivoting record (ball_pivoting_record.hpp) with the fields
+// reconstruction.json has always carried for each mesh.
 Json meshingJson(const BallPivotingReport& r) {
-  return {{"triangles", r.triangles},
-          {"used_points", r.used_points},
-          {"unused_points", r.unused_points},
-          {"boundary_loops", r.boundary_loops},
-          {"components", r.components},
-          {"non_manifold_edges", r.non_manifold_edges},
-          {"radii_m", passRadii(r)},
-          {"layer_thickness_m", r.layer_thickness},
-          {"thinning_cell_m", r.thinning_cell},
-          {"thinned_points", r.thinned_points},
-          {"reinserted_points", r.reinserted_points},
-          {"closed_holes", r.closed_holes},
-          {"folded_holes", r.folded_holes},
-          {"removed_faces", r.removed_faces}};
+  const Json full = Json::parse(ballPivotingRecordJson(r));
+  Json kept;
+  for (const char* key : {"triangles", "used_points", "unused_points", "boundary_loops", "components",
+                          "non_manifold_edges", "radii_m", "layer_thickness_m", "thinning_cell_m", "thinned_points",
+                          "reinserted_points", "closed_holes", "folded_holes", "removed_faces"})
+    kept[key] = full.at(key);
+  return kept;
 }
 
 Json scanJson(const ReconstructionResult& result, std::size_t i) {
@@ -252,8 +242,8 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
       {"cloud_points", result.cloud.positions.size()},
       {"per_scan", scans}};
   if (params.make_meshes) {
-    record["mesh_radii_m"] = passRadii(result.raw_meshing);
     record["raw_mesh"] = meshingJson(result.raw_meshing);
+    record["mesh_radii_m"] = record["raw_mesh"]["radii_m"];
     record["filtered_mesh"] = meshingJson(result.filtered_meshing);
     record["smoothing"] = smoothingJson(result, params);
   }

@@ -126,15 +126,14 @@ std::optional<Eigen::Vector3d> convergencePoint(const std::vector<Eigen::Isometr
 }
 
 void validateReconstructionParameters(const ReconstructionParameters& params) {
-  const auto finite = [](double value) { return std::isfinite(value); };
-  if (!(params.rotation_tolerance >= 0) || !finite(params.rotation_tolerance))
+  if (!(params.rotation_tolerance >= 0) || !std::isfinite(params.rotation_tolerance))
     throw InputError("ReconstructionParameters::rotation_tolerance", "", "expected max |R^T R - I| >= 0");
-  if (!(params.auto_crop_half_size > 0) || !finite(params.auto_crop_half_size))
+  if (!(params.auto_crop_half_size > 0) || !std::isfinite(params.auto_crop_half_size))
     throw InputError("ReconstructionParameters::auto_crop_half_size", "", "expected a positive half-size in metres");
   if (params.crop_box && (params.crop_box->isEmpty() || !params.crop_box->min().allFinite() ||
                           !params.crop_box->max().allFinite()))
     throw InputError("ReconstructionParameters::crop_box", "", "expected finite corners with min < max");
-  if (params.board && (!(params.board->square_size > 0) || !finite(params.board->square_size)))
+  if (params.board && (!(params.board->square_size > 0) || !std::isfinite(params.board->square_size)))
     throw InputError("BoardLattice::square_size", "", "expected the checkerboard's square size in metres (> 0)");
   if (params.board && !params.register_scans)
     throw InputError("ReconstructionParameters::board", "",
@@ -143,11 +142,11 @@ void validateReconstructionParameters(const ReconstructionParameters& params) {
     throw InputError("ConfidenceFilterParameters::min_confidence", "", "expected 0..255");
   if (params.confidence.min_amplitude < 0 || params.confidence.min_amplitude > 255)
     throw InputError("ConfidenceFilterParameters::min_amplitude", "", "expected 0..255");
-  if (!(params.range.max_range >= 0) || !finite(params.range.max_range))
+  if (!(params.range.max_range >= 0) || !std::isfinite(params.range.max_range))
     throw InputError("RangeGateParameters::max_range", "", "expected 0 (none) or metres");
-  if (!(params.fusion.resolution > 0) || !finite(params.fusion.resolution))
+  if (!(params.fusion.resolution > 0) || !std::isfinite(params.fusion.resolution))
     throw InputError("OctreeFusionParameters::resolution", "", "expected metres > 0");
-  if (params.smoothing.passes < 1) throw InputError("SmoothingParameters::passes", "", "expected at least 1");
+  params.smoothing.validate();
   params.meshing.validate();
 }
 

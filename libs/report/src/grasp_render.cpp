@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <tuple>
 
@@ -25,6 +26,22 @@ namespace {
 
 const Eigen::Vector3f kContact(0.1f, 0.1f, 0.1f);
 const Eigen::Vector3f kCentre(1.0f, 1.0f, 1.0f);
+
+// One view per camera, each captioned "<prefix><camera name>"; `step` after each.
+std::vector<RgbImage> captionedViews(const TriangleMesh& mesh, const std::vector<RenderCamera>& cameras,
+                                     const RenderStyle& style, const SurfaceColours& colours,
+                                     const std::vector<Marker>& markers, const std::string& prefix,
+                                     const std::function<void()>& step) {
+  const MeshRenderer renderer(mesh);
+  std::vector<RgbImage> views;
+  for (const RenderCamera& camera : cameras) {
+    RgbImage view = renderer.render(camera, style, colours, markers);
+    drawCaption(view, prefix + camera.name);
+    views.push_back(std::move(view));
+    step();
+  }
+  return views;
+}
 
 }  // namespace
 
@@ -77,14 +94,10 @@ RegionPicture renderRegionViews(const TriangleMesh& mesh, const std::vector<int>
   SurfaceColours colours;
   if (!fingers.empty()) colours.per_vertex = regionColours(mesh, fingers, regions, style.base_colour);
   const std::vector<Marker> markers = graspMarkers(mesh, contacts, picture.central_points, style.width);
-  const MeshRenderer renderer(mesh);
-  std::vector<RgbImage> views;
-  for (std::size_t i = 0; i < cameras.size(); ++i) {
-    RgbImage view = renderer.render(cameras[i], style, colours, markers);
-    drawCaption(view, cameras[i].name);
-    views.push_back(std::move(view));
-    if (progress) progress("render", i + 1, cameras.size());
-  }
+  std::size_t done = 0;
+  const std::vector<RgbImage> views = captionedViews(mesh, cameras, style, colours, markers, "", [&] {
+    if (progress) progress("render", ++done, cameras.size());
+  });
   const int count = static_cast<int>(cameras.size());
   picture.columns =
       columns > 0 ? std::min(columns, count) : static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
@@ -127,20 +140,13 @@ RgbImage renderRegionComparison(const TriangleMesh& cad, const std::vector<std::
 
   const std::size_t views = cameras.size();
   std::size_t done = 0;
-  const auto renderRow = [&](const TriangleMesh& mesh, const SurfaceColours& colours,
-                             const std::vector<Marker>& markers, const std::string& caption) {
-    const MeshRenderer renderer(mesh);
-    std::vector<RgbImage> images;
-    for (const RenderCamera& camera : cameras) {
-      RgbImage image = renderer.render(camera, style, colours, markers);
-      drawCaption(image, caption + ": " + camera.name);
-      images.push_back(std::move(image));
-      if (progress) progress("render", ++done, 2 * views);
-    }
-    return images;
+  const auto step = [&] {
+    if (progress) progress("render", ++done, 2 * views);
   };
-  const std::vector<RgbImage> cad_views = renderRow(cad, cad_colours, cad_markers, layout.cad_caption);
-  const std::vector<RgbImage> scan_views = renderRow(scan, scan_colours, scan_markers, layout.scan_caption);
+  const std::vector<RgbImage> cad_views =
+      captionedViews(cad, cameras, style, cad_colours, cad_markers, layout.cad_caption + ": ", step);
+  const std::vector<RgbImage> scan_views =
+      captionedViews(scan, cameras, style, scan_colours, scan_markers, layout.scan_caption + ": ", step);
 
   const std::size_t columns = layout.columns > 0 ? static_cast<std::size_t>(layout.columns) : std::max<std::size_t>(views, 1);
   const std::size_t rows = (views + columns - 1) / columns;

@@ -15,9 +15,11 @@
 #include <icrkit/core/triangle_mesh.hpp>
 #include <icrkit/eval/experiment.hpp>
 #include <icrkit/eval/experiment_records.hpp>
+#include <icrkit/eval/run_folder.hpp>
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,10 +29,15 @@ namespace icrkit::eval {
 /// One dataset's meshes, in the CAD frame, with unit vertex normals.
 struct StudyMeshes {
   TriangleMesh cad, raw, filtered;
-  /// Where they came from: an InputError about "CAD mesh", "raw mesh" or
-  /// "filtered mesh" (DatasetExperiment) is raised again naming the file.
-  std::string cad_file, raw_file, filtered_file;
+  /// Where they came from, named in errors (experimentNamingFiles).
+  RunMeshFiles files;
 };
+
+/// A DatasetExperiment on `meshes`; an InputError about its "CAD mesh",
+/// "raw mesh" or "filtered mesh" is raised again naming that file of `files`
+/// (when set), so that the user reads which file is at fault.
+std::unique_ptr<DatasetExperiment> experimentNamingFiles(const DatasetMeshes& meshes, const ExperimentConfig& config,
+                                                         const RunMeshFiles& files);
 
 struct StudyStages {
   /// Required: the meshes of dataset `name`, the `position`-th of the study
