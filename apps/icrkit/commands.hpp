@@ -29,5 +29,6 @@ void addPaperCommand(CLI::App& app, CommandRunner& runner);
 void addSensitivityCommand(CLI::App& app, CommandRunner& runner);
 void addRenderCommand(CLI::App& app, CommandRunner& runner);
 void addReportCommand(CLI::App& app, CommandRunner& runner);
+void addPlanCommand(CLI::App& app, CommandRunner& runner);
 
 }  // namespace icrkit::app

@@ -78,7 +78,8 @@ void GraspMeshOptions::addTo(CLI::App& command) {
       .add_option_function<std::string>(
           "--torque-reference", [this](const std::string& name) { torque_reference = kTorqueReferences.at(name); },
           "Torque reference: origin (of the mesh frame) or centroid (of the vertices faces use); lambda is the "
-          "farthest such vertex from it; default origin")
+          "farthest such vertex from it; default " +
+          std::string(icr::torqueReferenceName(torque_reference)))
       ->check(CLI::IsMember(kTorqueReferences));
 }
 

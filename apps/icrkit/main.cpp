@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   addSensitivityCommand(app, runner);
   addRenderCommand(app, runner);
   addReportCommand(app, runner);
+  addPlanCommand(app, runner);
 
   try {
     app.parse(argc, argv);

@@ -161,14 +161,27 @@ IcrResult computeIndependentContactRegions(const GraspableObject& object, const 
                                            const IcrParameters& params) {
   const auto start = Clock::now();
   detail::checkPrototype(object, contacts, params);
+  const GraspWrenchSpace gws = graspWrenchSpace(object, contacts, params.contact_model, params.hull);
+  const double hull_ms = millisecondsSince(start);
+  IcrResult result = computeIndependentContactRegions(object, contacts, gws, params);
+  result.timings.hull_ms = hull_ms;
+  result.timings.total_ms = millisecondsSince(start);
+  return result;
+}
+
+IcrResult computeIndependentContactRegions(const GraspableObject& object, const std::vector<int>& contacts,
+                                           const GraspWrenchSpace& gws, const IcrParameters& params) {
+  const auto start = Clock::now();
+  detail::checkPrototype(object, contacts, params);
 
   IcrResult result;
   result.lambda_m = object.frame().lambda;
   const ContactWrenches generator(params.contact_model, object.frame());
+  if (gws.force_closure && !gws.hull_vertices.empty() &&
+      static_cast<std::size_t>(gws.hull_vertices.back()) >= contacts.size() * generator.perContact())
+    throw InputError("grasp", "", "the given GWS was built from more wrenches than these contacts have");
 
   auto phase = Clock::now();
-  const GraspWrenchSpace gws = graspWrenchSpace(object, contacts, params.contact_model, params.hull);
-  result.timings.hull_ms = millisecondsSince(phase);
   if (!gws.force_closure) throw InputError("grasp", "", "the prototype grasp is not force closure: " + gws.reason);
   result.epsilon = gws.epsilon;
   result.gws_facets = gws.facetCount();

@@ -78,8 +78,6 @@ struct SensitivityLevelReport {
   bool built = false;  ///< false when this shard had no work on the level
   double build_ms = 0.0, evaluate_ms = 0.0;
 };
-/// The name before outcome structs were called "...Report" (issue 20).
-using SensitivityLevelInfo [[deprecated("use SensitivityLevelReport")]] = SensitivityLevelReport;
 
 struct SensitivityResult {
   double spacing_m = 0.0;

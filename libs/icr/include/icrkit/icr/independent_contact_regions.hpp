@@ -70,6 +70,14 @@ struct IcrResult {
 IcrResult computeIndependentContactRegions(const GraspableObject& object, const std::vector<int>& contacts,
                                            const IcrParameters& params = {});
 
+/// The same from the prototype's GWS already built (graspWrenchSpace on
+/// these contacts, params.contact_model and params.hull): for callers that
+/// check the hull against a task before growing regions (the planner), so
+/// that the hull, most of a small mesh's cost, is built once.
+/// `timings.hull_ms` is then 0.
+IcrResult computeIndependentContactRegions(const GraspableObject& object, const std::vector<int>& contacts,
+                                           const GraspWrenchSpace& prototype_gws, const IcrParameters& params = {});
+
 /// A(C): total area of the faces whose three vertices are all in `region`.
 double regionArea(const TriangleMesh& mesh, const std::vector<int>& region);
 

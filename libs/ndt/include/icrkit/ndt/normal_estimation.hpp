@@ -37,8 +37,6 @@ struct NormalEstimationReport {
   std::size_t small_windows = 0;  ///< points that fell back to the k nearest
   std::size_t flipped = 0;        ///< normals turned by the orientation step
 };
-/// The name before outcome structs were called "...Report" (issue 20).
-using NormalEstimationSummary [[deprecated("use NormalEstimationReport")]] = NormalEstimationReport;
 
 /// Replaces the cloud's normals by estimated unit normals and adds their
 /// uncertainty as the attributes `normal_sigma` (float, radians) and

@@ -97,8 +97,6 @@ struct PreselectionReport {
   std::size_t excluded_flatness_only = 0;
   std::size_t excluded_both = 0;
 };
-/// The name before outcome structs were called "...Report" (issue 20).
-using PreselectionSummary [[deprecated("use PreselectionReport")]] = PreselectionReport;
 
 struct Preselection {
   std::vector<std::uint8_t> excluded;  ///< one 0/1 flag per point

@@ -74,8 +74,6 @@ struct SmoothingReport {
   double max_displacement_m = 0.0;
   double time_ms = 0.0;
 };
-/// The name before outcome structs were called "...Report" (issue 20).
-using SmoothingSummary [[deprecated("use SmoothingReport")]] = SmoothingReport;
 
 /// Smooths `cloud` in place and adds the per-point attributes `cardinality`
 /// (int), `flatness` (float), `displacement` (float, metres, total over the

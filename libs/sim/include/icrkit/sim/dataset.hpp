@@ -57,8 +57,6 @@ struct SimulationReport {
   double object_pixel_fraction = 0.0;  ///< pixels whose true surface is the object
   double time_ms = 0.0;
 };
-/// The name before outcome structs were called "...Report" (issue 20).
-using DatasetSummary [[deprecated("use SimulationReport")]] = SimulationReport;
 
 /// Simulates and writes the recording into `directory` (created; an
 /// existing folder is only replaced when it holds an earlier simulation,
