@@ -70,6 +70,24 @@ def reconstruct(
     depth_scale: Optional[float] = ...,
     progress: Optional[Callable[[str, int, int], None]] = ...,
 ) -> Dict[str, Any]: ...
+def plan(
+    mesh: TriangleMesh,
+    fingers: Sequence[int] = ...,
+    top: int = ...,
+    candidates: int = ...,
+    tws_radius: Optional[float] = ...,
+    alpha: float = ...,
+    model: str = ...,
+    mu: float = ...,
+    edges: int = ...,
+    mu_t: float = ...,
+    placement_error: float = ...,
+    task_margin: float = ...,
+    seed: int = ...,
+    torque_reference: str = ...,
+    excluded: Optional[npt.ArrayLike] = ...,
+    mesh_path: str = ...,
+) -> Dict[str, Any]: ...
 def sample_grasps(
     mesh: TriangleMesh,
     fingers: int = ...,

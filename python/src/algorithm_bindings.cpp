@@ -7,6 +7,8 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/icr/grasp_sampling.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
+#include <icrkit/planning/grasp_planner.hpp>
+#include <icrkit/planning/plan_file.hpp>
 #include <icrkit/icr/patch_contacts.hpp>
 #include <icrkit/ndt/preselection.hpp>
 #include <icrkit/ndt/smoothing.hpp>
@@ -241,6 +243,41 @@ void bindAlgorithms(py::module_& m) {
       "attributes, or fixed `normal_uncertainty` (rad) and `position_uncertainty` (m). `patch_radius` (m): the "
       "authors' multi-point contacts. Returns a dict: epsilon, lambda_m, tws_radius, gws_facets, regions (finger, "
       "contact, vertices, area_m2, recommended), vertices_tested, time_ms. The same numbers as `icrkit icr`.");
+
+  m.def(
+      "plan",
+      [](const TriangleMesh& mesh, std::vector<std::size_t> fingers, std::size_t top, std::size_t candidates,
+         std::optional<double> tws_radius, double alpha, const std::string& model, double mu, int edges, double mu_t,
+         double placement_error, double task_margin, std::uint64_t seed, const std::string& torque_reference,
+         const py::handle& excluded, const std::string& mesh_path) {
+        planning::PlanningParameters params;
+        params.finger_counts = std::move(fingers);
+        params.top = top;
+        params.candidates = candidates;
+        params.regions.contact_model = contactModel(model, mu, edges, mu_t);
+        params.regions.alpha = alpha;
+        params.regions.tws_radius = tws_radius;
+        params.placement.placement_error_m = placement_error;
+        params.task_margin = task_margin;
+        params.seed = seed;
+        std::vector<std::uint8_t> mask = exclusionMask(mesh, excluded);
+        const icr::TorqueReference reference = icr::parseTorqueReference(torque_reference);
+        std::string text;
+        {
+          py::gil_scoped_release release;
+          const icr::GraspableObject object = icr::GraspableObject::withDefaultFrame(mesh, std::move(mask), reference);
+          text = planning::planJson(mesh_path, object, params.regions.contact_model, planning::planGrasps(object, params));
+        }
+        return py::module_::import("json").attr("loads")(text);
+      },
+      py::arg("mesh"), py::arg("fingers") = std::vector<std::size_t>{4}, py::arg("top") = 10,
+      py::arg("candidates") = 1000, py::arg("tws_radius") = py::none(), py::arg("alpha") = 0.5,
+      py::arg("model") = "frictional", py::arg("mu") = 0.8, py::arg("edges") = 8, py::arg("mu_t") = 0.5,
+      py::arg("placement_error") = 0.003, py::arg("task_margin") = 0.25, py::arg("seed") = 1,
+      py::arg("torque_reference") = "centroid", py::arg("excluded") = py::none(), py::arg("mesh_path") = "",
+      "Grasps a robot can execute on `mesh` (`icrkit plan`, docs/planning.md): returns the plan as the dict "
+      "plan.json holds (grasps best first, each with its regions and recommended contacts); `mesh_path` is "
+      "recorded as its \"mesh\".");
 
   m.def(
       "sample_grasps",

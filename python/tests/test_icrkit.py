@@ -138,6 +138,25 @@ def test_regions_equal_the_commands_bit_for_bit():
                 assert a["recommended"] == b["recommended"]
 
 
+def test_plan_equals_the_commands_plan_json():
+    model = os.path.join(DATA, "icr-models", "Fish_5k.obj")
+    if not os.path.exists(model):
+        pytest.skip("shared data not found: " + model)
+    mesh = icrkit.read_mesh(model)
+    plan = icrkit.plan(mesh, top=3, candidates=200, seed=2, mesh_path=model)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "plan.json")
+        subprocess.run([ICRKIT, "plan", model, "--top", "3", "--candidates", "200", "--seed", "2", "--renders", "0",
+                        "-o", out, "--quiet"], check=True, capture_output=True, text=True)
+        cli = json.load(open(out))
+    for key in ("placement_error_m", "task_margin", "seed"):
+        cli.pop(key)
+    assert plan == cli
+    assert [g["rank"] for g in plan["grasps"]] == [1, 2, 3]
+    with pytest.raises(ValueError, match="top"):
+        icrkit.plan(mesh, top=0)
+
+
 def test_the_gil_is_released_during_long_calls():
     import threading
     import time
