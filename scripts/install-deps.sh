@@ -20,6 +20,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   # ... and its examples (examples/python: a matplotlib plot, Open3D interop).
   python3-matplotlib python3-open3d
+  # The independent grasp executor of the planner's test (tests/executor/, scipy's ConvexHull).
+  python3-scipy
 )
 
 # Optional tools, keyed by the command they provide (a Node.js install from

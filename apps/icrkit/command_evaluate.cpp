@@ -60,6 +60,14 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   const std::string warning = frameWarning(records, name);
   if (!warning.empty()) context.note(warning);
 
+  const double plan_start = context.elapsedMs();
+  std::vector<std::string> planned;
+  if (begin == 0) {
+    const std::string line = runPlannedStudy(o.experiment, *experiment, context);
+    if (!line.empty()) planned.push_back(line);
+  }
+  const double plan_ms = context.elapsedMs() - plan_start;
+
   nlohmann::json sampled;
   for (const std::size_t f : config.finger_counts) sampled[std::to_string(f)] = experiment->sampledGrasps(f);
   nlohmann::json run{{"command", "evaluate"},
@@ -67,6 +75,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
                      {"shard", {{"index", shard.index}, {"count", shard.count}}},
                      {"align", o.experiment.align},
                      {"renders", o.experiment.renders},
+                     {"plan", plannedStudyJson(o.experiment)},
                      {"preselection_rule", o.experiment.preselectionName()},
                      {"datasets",
                       {{{"name", name},
@@ -89,6 +98,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   const double write_start = context.elapsedMs();
   report::WrittenOutputs written = report::writeExperimentOutputs(o.output, records, outputs);
   std::vector<std::string>& files = written.files;
+  for (const std::string& f : writePlannedStudies(o.output, planned)) files.push_back(f);
   const double render_start = context.elapsedMs();
   for (const std::string& f : report::writeGraspRenders(o.output, eval::DatasetMeshes{name, &cad, &raw, &filtered},
                                                         config, records, o.experiment.renders))
@@ -109,6 +119,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
             {"align", align_ms},
             {"prepare", prepare_ms},
             {"grasps", run_ms},
+            {"plan", plan_ms},
             {"write", context.elapsedMs() - write_start - render_ms},
             {"render", render_ms},
             {"total", context.elapsedMs()}}}};

@@ -48,6 +48,11 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     for (const std::string& f : report::writeGraspRenders(o.output, meshes, config, part, o.experiment.renders))
       renders.push_back(f);
   };
+  std::vector<std::string> planned;
+  stages.first_shard = [&](const eval::DatasetExperiment& experiment) {
+    const std::string line = runPlannedStudy(o.experiment, experiment, context);
+    if (!line.empty()) planned.push_back(line);
+  };
   stages.note = [&](const std::string& message) { context.note(message); };
   const eval::StudyResult study = eval::runStudy(order, config, shard, stages, context.progress());
 
@@ -80,6 +85,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
                            {"mesh_kept_points_only", o.mesh_kept_points_only},
                            {"align", o.experiment.align},
                            {"renders", o.experiment.renders},
+                           {"plan", plannedStudyJson(o.experiment)},
                            {"shard", {{"index", shard.index}, {"count", shard.count}}},
                            {"datasets", names}};
   report::ExperimentOutputs outputs;
@@ -88,6 +94,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   outputs.run_json = run.dump();
   report::WrittenOutputs written = report::writeExperimentOutputs(o.output, study.records, outputs);
   written.files.insert(written.files.end(), renders.begin(), renders.end());
+  for (const std::string& f : writePlannedStudies(o.output, planned)) written.files.push_back(f);
   return {{"output", o.output},
           {"warnings", warnings},
           {"datasets", datasets},

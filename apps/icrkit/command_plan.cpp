@@ -112,7 +112,8 @@ void run(const PlanOptions& options, CommandContext& context) {
                            {"excluded", r.trust.excluded},
                            {"near_rim", r.trust.near_rim},
                            {"normal_spread", r.trust.normal_spread},
-                           {"normal_sigma", r.trust.normal_sigma}}},
+                           {"normal_sigma", r.trust.normal_sigma},
+                           {"weak_support", r.trust.weak_support}}},
                          {"finger_counts", counts},
                          {"grasps", grasps}};
   summary.update(graspMeshJson(input, options.mesh, 0));

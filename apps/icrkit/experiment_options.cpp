@@ -10,7 +10,10 @@
 #include <icrkit/eval/rigid_alignment.hpp>
 #include <icrkit/eval/study.hpp>
 
+#include <icrkit/core/atomic_file.hpp>
+
 #include <cmath>
+#include <filesystem>
 
 namespace icrkit::app {
 
@@ -53,6 +56,16 @@ void ExperimentOptions::addTo(CLI::App& command, bool with_preselection) {
                      "Fig. 6 renders (CAD vs filtered, CAD vs raw) of this many evaluated grasps per dataset, in "
                      "DIR/renders/ (0: none)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  command
+      .add_option("--plan-top", plan_top,
+                  "Beside the random grasps, plan this many grasps (icrkit plan, 4 fingers, task half the median "
+                  "epsilon of the random CAD grasps) on the raw and on the filtered mesh and execute them on the CAD "
+                  "mesh: aimed, random picks, 3 mm placement error, and a random baseline (planned.{jsonl,md}; 0: "
+                  "none)")
+      ->capture_default_str();
+  command.add_option("--plan-candidates", plan_candidates, "Candidates the planner draws (--plan-top)")
+      ->check(atLeast(1))
       ->capture_default_str();
   command.add_option("--shard", shard, "Run shard i of N (0-based) of the work; combine with `icrkit merge`")
       ->capture_default_str();
@@ -164,14 +177,66 @@ nlohmann::json alignIfAsked(const ExperimentOptions& options, TriangleMesh& mesh
   }
   eval::transformMesh(mesh, a.transform);
   const Eigen::AngleAxisd rotation(a.transform.linear());
+  nlohmann::json matrix = nlohmann::json::array();
+  const Eigen::Matrix4d m = a.transform.matrix();
+  for (int r = 0; r < 4; ++r) matrix.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
   return {{"mesh", name},
           {"method", "point-to-plane ICP"},
+          {"matrix", matrix},
           {"translation_m", {a.transform.translation().x(), a.transform.translation().y(), a.transform.translation().z()}},
           {"rotation_rad", rotation.angle()},
           {"iterations", a.iterations},
           {"converged", a.converged},
           {"rms_before_m", a.rms_before_m},
           {"rms_after_m", a.rms_after_m}};
+}
+
+nlohmann::json plannedStudyJson(const ExperimentOptions& options) {
+  if (options.plan_top == 0) return nullptr;
+  const eval::PlannedExecutionParameters execution;
+  return {{"top", options.plan_top},
+          {"candidates", options.plan_candidates},
+          {"fingers", 4},
+          {"task", "0.5 x median epsilon of the random CAD grasps"},
+          {"picks_per_grasp", execution.picks_per_grasp},
+          {"placement_samples", execution.placement_samples},
+          {"placement_error_m", execution.placement_error_m}};
+}
+
+std::string runPlannedStudy(const ExperimentOptions& options, const eval::DatasetExperiment& experiment,
+                            CommandContext& context) {
+  if (options.plan_top == 0) return {};
+  planning::PlanningParameters planning;
+  planning.top = options.plan_top;
+  planning.candidates = options.plan_candidates;
+  planning.seed = options.seed;
+  planning.regions.mode = options.mode == "full" ? icr::GrowthMode::Full : icr::GrowthMode::BreadthFirst;
+  eval::PlannedExecutionParameters execution;
+  execution.seed = options.seed;
+  const eval::PlannedGraspStudy study = experiment.plannedGrasps(planning, execution);
+  const auto line = [](const eval::PlannedMeshStudy& s) {
+    if (!s.error.empty()) return s.mesh + ": no plan (" + s.error + ")";
+    return s.mesh + ": " + std::to_string(s.grasps.size()) + " grasps, aimed " +
+           std::to_string(static_cast<int>(std::lround(100 * s.aimedHeldFraction()))) + "%, picks " +
+           std::to_string(static_cast<int>(std::lround(100 * s.picksHeldFraction()))) + "%, placement " +
+           std::to_string(static_cast<int>(std::lround(100 * s.placementsHeldFraction()))) + "% held on the CAD";
+  };
+  context.note(study.dataset + ": planned grasps, " + line(study.filtered) + "; " + line(study.raw) +
+               "; random baseline " + line(study.filtered_random));
+  return eval::plannedGraspStudyJson(study);
+}
+
+std::vector<std::string> writePlannedStudies(const std::string& dir, const std::vector<std::string>& lines) {
+  if (lines.empty()) return {};
+  const std::string jsonl = (std::filesystem::path(dir) / "planned.jsonl").string();
+  const std::string md = (std::filesystem::path(dir) / "planned.md").string();
+  writeFileAtomically(jsonl, [&](std::ostream& out) {
+    for (const std::string& l : lines) out << l << "\n";
+  });
+  writeFileAtomically(md, [&](std::ostream& out) {
+    out << "# Planned grasps executed on the CAD mesh\n\n" << eval::plannedGraspStudiesMarkdown(lines);
+  });
+  return {jsonl, md};
 }
 
 TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandContext& context) {

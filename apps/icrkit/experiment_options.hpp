@@ -40,6 +40,11 @@ struct ExperimentOptions {
   /// --patch-radius M: the patch-contact study beside the plain one; unset without it.
   std::optional<double> patch_radius;
   int renders = 1;
+  /// The planned grasps beside the random ones (eval/planned_grasps.hpp):
+  /// `icrkit plan --top plan_top --candidates plan_candidates` on the raw
+  /// and filtered meshes, executed on the CAD mesh. 0: none.
+  std::size_t plan_top = 10;
+  std::size_t plan_candidates = 1000;
 
   /// `with_preselection` false: the command has its own --preselection.
   void addTo(CLI::App& command, bool with_preselection = true);
@@ -56,6 +61,18 @@ struct ExperimentOptions {
   /// `path` when the mesh lacks the smoothing's attributes.
   nlohmann::json applyPreselection(TriangleMesh& filtered, const std::string& path) const;
 };
+
+/// run.json's "plan": the planned-grasp study's parameters (null when off).
+nlohmann::json plannedStudyJson(const ExperimentOptions& options);
+
+/// The planned-grasp study of one dataset (one line of planned.jsonl), or
+/// empty with --plan-top 0. Notes what it found.
+std::string runPlannedStudy(const ExperimentOptions& options, const eval::DatasetExperiment& experiment,
+                            CommandContext& context);
+
+/// Writes DIR/planned.jsonl and planned.md (atomically) from the study
+/// lines; nothing without lines. Returns the files written.
+std::vector<std::string> writePlannedStudies(const std::string& dir, const std::vector<std::string>& lines);
 
 /// A mesh for the experiment: faces required; vertex normals from the
 /// file, or with `compute` derived from the faces (noted), else an

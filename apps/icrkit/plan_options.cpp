@@ -19,7 +19,7 @@ void addPlanOptions(CLI::App& command, PlanOptions& options) {
       ->capture_default_str();
   command.add_option("--hulls", options.hulls,
                      "Hulls built per finger count, for the candidates whose epsilon bound is largest "
-                     "(default max(8 x top, 64))");
+                     "(default max(20 x top, 64))");
   auto* alpha = command
                     .add_option("--alpha", options.alpha,
                                 "Task: a ball of radius alpha x each candidate's epsilon (the paper's), alpha in (0, 1]")
@@ -49,10 +49,18 @@ void addPlanOptions(CLI::App& command, PlanOptions& options) {
   command.add_option("--footprint-radius", options.footprint_radius,
                      "The fingertip's footprint (metres): normals within it must agree ...")
       ->capture_default_str();
-  command.add_option("--max-normal-spread", options.max_normal_spread, "... to within this angle (radians)")
+  command.add_option("--max-normal-spread", options.max_normal_spread,
+                     "... to within this angle (radians) of their mean: the vertex's own and all but ...")
+      ->capture_default_str();
+  command.add_option("--max-spread-fraction", options.max_spread_fraction,
+                     "... this fraction of the others (0: every one)")
       ->capture_default_str();
   command.add_option("--max-normal-sigma", options.max_normal_sigma,
                      "No finger where the mesh's `normal_sigma` exceeds this (radians; ignored without the attribute)")
+      ->capture_default_str();
+  command.add_option("--min-support", options.min_support,
+                     "No finger where a vertex under the footprint has a `cardinality` below this fraction of the "
+                     "mesh's median (0: off; ignored without the attribute)")
       ->capture_default_str();
   command.add_option("--seed", options.seed, "Seed of the candidate draws")->capture_default_str();
   command.add_option("--renders", options.renders, "Grasps drawn in the PNG next to the plan (0: no PNG)")
@@ -88,6 +96,9 @@ planning::PlanningParameters planningParameters(const PlanOptions& options) {
   p.trust.footprint_radius_m = options.footprint_radius;
   p.trust.max_normal_spread_rad = options.max_normal_spread;
   p.trust.max_normal_sigma_rad = options.max_normal_sigma;
+  p.trust.max_spread_fraction = options.max_spread_fraction;
+  if (options.min_support > 0.0) p.trust.min_relative_support = options.min_support;
+  else p.trust.min_relative_support.reset();
   return p;
 }
 
@@ -104,7 +115,9 @@ void mapPlanFields(CommandContext& context) {
                      {"ContactTrustParameters::rim_distance_m", "--rim-distance"},
                      {"ContactTrustParameters::footprint_radius_m", "--footprint-radius"},
                      {"ContactTrustParameters::max_normal_spread_rad", "--max-normal-spread"},
-                     {"ContactTrustParameters::max_normal_sigma_rad", "--max-normal-sigma"}});
+                     {"ContactTrustParameters::max_normal_sigma_rad", "--max-normal-sigma"},
+                     {"ContactTrustParameters::min_relative_support", "--min-support"},
+                     {"ContactTrustParameters::max_spread_fraction", "--max-spread-fraction"}});
 }
 
 }  // namespace icrkit::app

@@ -31,6 +31,8 @@ struct PlanOptions {
   double footprint_radius = 0.003;
   double max_normal_spread = 0.35;
   double max_normal_sigma = 0.25;
+  double min_support = 1.0 / 3.0;
+  double max_spread_fraction = 0.1;
   std::uint64_t seed = 1;
   int renders = 3;
   std::string output;

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -546,6 +547,64 @@ std::size_t DatasetExperiment::sampledGrasps(std::size_t fingers) const {
   for (const auto& set : impl_->test_sets)
     if (set.fingers == fingers) return set.grasps.size();
   return 0;
+}
+
+PlannedGraspStudy DatasetExperiment::plannedGrasps(planning::PlanningParameters planning,
+                                                  const PlannedExecutionParameters& execution) const {
+  if (planning.finger_counts.empty())
+    throw InputError("PlanningParameters::finger_counts", "", "expected at least one finger count");
+  PlannedGraspStudy study;
+  study.dataset = impl_->meshes.name;
+  study.fingers = planning.finger_counts.front();
+  std::vector<double> epsilons;
+  for (const auto& set : impl_->test_sets)
+    if (set.fingers == study.fingers)
+      for (const auto& g : set.grasps) epsilons.push_back(g.epsilon);
+  if (epsilons.empty()) {
+    icr::GraspSamplingParameters sampling;
+    sampling.fingers = study.fingers;
+    sampling.count = impl_->config.grasps_per_set;
+    sampling.seed = impl_->config.seed * 1000 + study.fingers;
+    sampling.max_attempts = impl_->config.max_sampling_attempts;
+    for (const auto& g : icr::sampleForceClosureGrasps(impl_->cad_object, impl_->model, sampling))
+      epsilons.push_back(g.epsilon);
+  }
+  study.cad_grasps = epsilons.size();
+  if (epsilons.empty()) throw InputError(study.dataset, "", "no force-closure grasp on the CAD mesh to set the task");
+  std::sort(epsilons.begin(), epsilons.end());
+  const std::size_t n = epsilons.size();
+  const double median = n % 2 ? epsilons[n / 2] : 0.5 * (epsilons[n / 2 - 1] + epsilons[n / 2]);
+  study.tws_radius = 0.5 * median;
+  planning.regions.contact_model = impl_->model;
+  planning.regions.tws_radius = study.tws_radius;
+  planning.regions.tws_wrenches.reset();
+
+  const ScanToCadMapping to_cad(*impl_->meshes.cad, impl_->config.mapping);
+  const auto run = [&](const icr::GraspableObject& scan, const planning::PlanningParameters& p, const char* mesh,
+                       std::size_t keep_first) {
+    PlannedMeshStudy s;
+    s.mesh = mesh;
+    const auto start = std::chrono::steady_clock::now();
+    planning::PlanResult plan;
+    try {
+      plan = planning::planGrasps(scan, p);
+    } catch (const InputError& error) {
+      s.error = error.detail();
+      return s;
+    }
+    if (keep_first > 0) keepFirstDrawn(plan, keep_first);
+    s.plan_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    PlannedMeshStudy executed = executePlanOnCad(plan, scan, to_cad, impl_->cad_object, impl_->model, execution);
+    executed.mesh = s.mesh;
+    executed.plan_ms = s.plan_ms;
+    return executed;
+  };
+  const planning::PlanningParameters baseline = randomBaselineParameters(planning, planning.top);
+  study.raw = run(impl_->raw_object, planning, "raw", 0);
+  study.filtered = run(impl_->filtered_object, planning, "filtered", 0);
+  study.raw_random = run(impl_->raw_object, baseline, "raw_random", planning.top);
+  study.filtered_random = run(impl_->filtered_object, baseline, "filtered_random", planning.top);
+  return study;
 }
 
 std::vector<GraspRecord> DatasetExperiment::run(std::size_t begin, std::size_t end,

@@ -157,14 +157,43 @@ ScanToCadMapping::ScanToCadMapping(const TriangleMesh& cad_mesh, const MappingPa
 VertexImage ScanToCadMapping::map(const Eigen::Vector3d& scan_point, const Eigen::Vector3d& scan_normal) const {
   VertexImage image;
   if (!scan_point.allFinite()) return image;
-  const ClosestPoint nearest = target_.rayCaster().closestPoint(scan_point, target_.maxLineDistance());
-  if (!nearest.found) return image;
+  const auto& mesh = target_.mesh();
+  const auto& positions = mesh.vertices.positions;
+  const auto& normals = mesh.vertices.normals;
+  const bool sided = scan_normal.allFinite() && scan_normal.squaredNorm() > 0.0;
+  const double reach = target_.maxLineDistance();
+
+  // With the scan normal known, the anchor is where a finger approaching
+  // along it touches the CAD surface: the nearest crossing of the line with
+  // a CAD face turned the same way (its vertices' normals). The nearest CAD
+  // point alone can lie on the far side of a thin wall (a cup's inner
+  // surface), whose vertices all face away.
+  ClosestPoint nearest;
+  if (sided) {
+    const Eigen::Vector3d direction = scan_normal.normalized();
+    double best = std::numeric_limits<double>::infinity();
+    for (const RayHit& hit : target_.rayCaster().allHitsOnLine(scan_point, direction)) {
+      const double t = std::abs(hit.distance);
+      if (t > reach || t >= best) continue;
+      const auto& f = mesh.faces[static_cast<std::size_t>(hit.face)];
+      const Eigen::Vector3d face_normal = normals[static_cast<std::size_t>(f[0])] +
+                                          normals[static_cast<std::size_t>(f[1])] +
+                                          normals[static_cast<std::size_t>(f[2])];
+      if (!(face_normal.dot(direction) > 0.0)) continue;
+      best = t;
+      nearest.found = true;
+      nearest.point = hit.point;
+      nearest.face = hit.face;
+    }
+  }
+  if (!nearest.found) {
+    nearest = target_.rayCaster().closestPoint(scan_point, reach);
+    if (!nearest.found) return image;
+    image.fallback = sided;
+  }
 
   thread_local std::vector<std::size_t> candidates;
   target_.candidates(nearest.point, nearest.face, candidates);
-  const auto& positions = target_.mesh().vertices.positions;
-  const auto& normals = target_.mesh().vertices.normals;
-  const bool sided = scan_normal.allFinite() && scan_normal.squaredNorm() > 0.0;
   BestCandidate facing, any;
   for (const std::size_t index : candidates) {
     const Eigen::Vector3d offset = scan_point - positions[index];

@@ -109,6 +109,27 @@ MergedRun mergeRunFolders(const std::vector<std::string>& folders) {
         study.at("noise_levels").get<std::vector<double>>(), study.at("rules").get<std::vector<std::string>>());
   }
   merged.render_files = wantedRenders(folders, merged.records, first);
+  std::map<std::string, std::string> planned;  // dataset -> line
+  for (const std::string& folder : folders) {
+    const fs::path path = fs::path(folder) / "planned.jsonl";
+    std::ifstream in(path);
+    std::string line;
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+      if (line.empty()) continue;
+      std::string dataset;
+      try {
+        dataset = nlohmann::json::parse(line).at("dataset").get<std::string>();
+      } catch (const std::exception& error) {
+        throw InputError(path.string(), "line " + std::to_string(number),
+                         std::string("expected a planned-grasp study (JSON with \"dataset\"): ") + error.what());
+      }
+      if (!planned.emplace(dataset, line).second)
+        throw InputError(path.string(), "line " + std::to_string(number),
+                         "the planned grasps of " + dataset + " appear in two shards");
+    }
+  }
+  for (const std::string& name : merged.dataset_order)
+    if (const auto it = planned.find(name); it != planned.end()) merged.planned_lines.push_back(it->second);
   return merged;
 }
 

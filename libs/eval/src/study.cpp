@@ -70,6 +70,7 @@ StudyResult runStudy(const std::vector<std::string>& datasets, const ExperimentC
 
     start = Clock::now();
     if (stages.after) stages.after(view, part);
+    if (stages.first_shard && local_begin == 0) stages.first_shard(*experiment);
     info.after_ms = msSince(start);
 
     info.cad_vertices = meshes.cad.vertexCount();

@@ -59,7 +59,12 @@ void ContactTrustParameters::validate() const {
   requireLength("ContactTrustParameters::rim_distance_m", rim_distance_m);
   requireLength("ContactTrustParameters::footprint_radius_m", footprint_radius_m);
   requireLength("ContactTrustParameters::max_normal_spread_rad", max_normal_spread_rad);
+  requireLength("ContactTrustParameters::max_spread_fraction", max_spread_fraction);
+  if (max_spread_fraction >= 1.0)
+    throw InputError("ContactTrustParameters::max_spread_fraction", "",
+                     "expected a fraction in [0, 1), got " + std::to_string(max_spread_fraction));
   if (max_normal_sigma_rad) requireLength("ContactTrustParameters::max_normal_sigma_rad", *max_normal_sigma_rad);
+  if (min_relative_support) requireLength("ContactTrustParameters::min_relative_support", *min_relative_support);
 }
 
 ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std::uint8_t>& excluded,
@@ -80,7 +85,27 @@ ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std:
   // vertices under the fingertip centred on it.
   const auto& positions = mesh.vertices.positions;
   const auto& normals = mesh.vertices.normals;
-  std::vector<std::uint8_t> spread_ok(n, 1);
+  // Thinly supported vertices: cardinality below the fraction of the
+  // median over the surface (a scale-free rule: the count depends on the
+  // sensor, the views and the NDT window).
+  std::vector<std::uint8_t> weak(n, 0);
+  bool any_weak = false;
+  if (const Attribute* support =
+          params.min_relative_support ? mesh.vertices.attributes.find("cardinality") : nullptr) {
+    std::vector<double> values;
+    for (std::size_t v = 0; v < n; ++v)
+      if (referenced[v]) values.push_back(support->values[v]);
+    if (!values.empty()) {
+      const auto mid = values.begin() + static_cast<long>(values.size() / 2);
+      std::nth_element(values.begin(), mid, values.end());
+      const double bound = *params.min_relative_support * *mid;
+      for (std::size_t v = 0; v < n; ++v)
+        if (referenced[v] && !(support->values[v] >= bound)) weak[v] = any_weak = 1;
+    }
+  }
+
+  std::vector<std::uint8_t> spread_ok(n, 1), support_ok(n, 1);
+  for (std::size_t v = 0; v < n; ++v) support_ok[v] = weak[v] ? 0 : 1;
   if (params.footprint_radius_m > 0.0) {
     const KdTree tree(positions);
     const double min_cos = std::cos(params.max_normal_spread_rad);
@@ -89,11 +114,28 @@ ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std:
       for (std::size_t v = range.begin(); v != range.end(); ++v) {
         if (!referenced[v]) continue;
         tree.indicesWithinRadiusInTreeOrder(positions[v], params.footprint_radius_m, near);
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        std::size_t count = 0;
+        for (std::size_t u : near) {
+          if (!referenced[u]) continue;
+          if (any_weak && weak[u]) support_ok[v] = 0;
+          mean += normals[u];
+          ++count;
+        }
+        const double length = mean.norm();
+        if (!(length > 0.0)) {
+          spread_ok[v] = 0;
+          continue;
+        }
+        mean /= length;
+        if (normals[v].dot(mean) < min_cos) {
+          spread_ok[v] = 0;
+          continue;
+        }
+        std::size_t off = 0;
         for (std::size_t u : near)
-          if (referenced[u] && normals[u].dot(normals[v]) < min_cos) {
-            spread_ok[v] = 0;
-            break;
-          }
+          if (referenced[u] && normals[u].dot(mean) < min_cos) ++off;
+        if (static_cast<double>(off) > params.max_spread_fraction * static_cast<double>(count)) spread_ok[v] = 0;
       }
     });
   }
@@ -112,6 +154,8 @@ ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std:
       ++r.normal_spread;
     } else if (sigma && !(sigma->values[v] <= *params.max_normal_sigma_rad)) {
       ++r.normal_sigma;
+    } else if (!support_ok[v]) {
+      ++r.weak_support;
     } else {
       trust.untrusted[v] = 0;
       ++r.trusted;

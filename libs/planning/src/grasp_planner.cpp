@@ -142,7 +142,8 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
                            " are trusted (" + std::to_string(report.trust.excluded) + " excluded, " +
                            std::to_string(report.trust.near_rim) + " near the rim, " +
                            std::to_string(report.trust.normal_spread) + " under disagreeing normals, " +
-                           std::to_string(report.trust.normal_sigma) + " with a large normal_sigma)");
+                           std::to_string(report.trust.normal_sigma) + " with a large normal_sigma, " +
+                           std::to_string(report.trust.weak_support) + " on thinly supported surface)");
     const auto columns = per_contact * static_cast<Eigen::Index>(fingers);
 
     // 1. Draw and screen without hulls.
@@ -183,7 +184,7 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return candidates[a].bound > candidates[b].bound; });
     const std::size_t hulls =
-        std::min(order.size(), params.hulls ? *params.hulls : std::max<std::size_t>(8 * params.top, 64));
+        std::min(order.size(), params.hulls ? *params.hulls : std::max<std::size_t>(20 * params.top, 64));
     order.resize(hulls);
     fc.drawn = candidates.size();
     report.screening_ms += msSince(phase);

@@ -197,6 +197,48 @@ void writeEligibility(std::ostringstream& out, const HtmlReportInput& input) {
          "grasp on surface no view saw (an object's base) is mapped onto that rim on both meshes.</p>\n</section>\n";
 }
 
+void writePlanned(std::ostringstream& out, const HtmlReportInput& input) {
+  if (input.planned_lines.empty()) return;
+  out << "<section id=\"planned\">\n<h2>Planned grasps executed on the CAD mesh</h2>\n"
+         "<table id=\"planned-table\">\n<thead><tr><th class=\"name\">Dataset</th><th class=\"name\">Mesh</th>"
+         "<th>Grasps</th><th>TWS radius</th><th>Aimed held</th><th>Picks held</th><th>Placement error held</th>"
+         "<th>Median region area (mm&sup2;)</th></tr></thead>\n<tbody>\n";
+  const std::pair<const char*, const char*> meshes[] = {{"filtered", "filtered, planned"},
+                                                        {"filtered_random", "filtered, random baseline"},
+                                                        {"raw", "raw, planned"},
+                                                        {"raw_random", "raw, random baseline"}};
+  for (const std::string& line : input.planned_lines) {
+    nlohmann::json study;
+    try {
+      study = nlohmann::json::parse(line);
+    } catch (const std::exception&) {
+      continue;  // run_report checked the lines
+    }
+    for (const auto& [key, label] : meshes) {
+      if (!study.contains(key)) continue;
+      const nlohmann::json& m = study.at(key);
+      out << "<tr><td class=\"name\">" << htmlEscape(study.value("dataset", std::string())) << "</td><td class=\"name\">"
+          << label << "</td>";
+      if (m.contains("error")) {
+        out << "<td>0</td><td colspan=\"5\" class=\"name\">" << htmlEscape(m.at("error").get<std::string>())
+            << "</td></tr>\n";
+        continue;
+      }
+      out << "<td>" << m.at("grasps").size() << "</td><td>" << fixed(study.value("tws_radius", 0.0), 4) << "</td><td>"
+          << fixed(100.0 * m.value("aimed_held_fraction", 0.0), 1) << " %</td><td>"
+          << fixed(100.0 * m.value("picks_held_fraction", 0.0), 1) << " %</td><td>"
+          << fixed(100.0 * m.value("placements_held_fraction", 0.0), 1) << " %</td><td>"
+          << fixed(1e6 * m.value("median_region_area_m2", 0.0), 0) << "</td></tr>\n";
+    }
+  }
+  out << "</tbody>\n</table>\n<p class=\"note\">The top grasps of <code>icrkit plan</code> on each reconstructed "
+         "mesh (task: half the median epsilon of the random CAD grasps), executed on the CAD mesh as a robot would: "
+         "every finger at its region's recommended contact (aimed), at one random vertex of each region (picks), and "
+         "aimed with a Gaussian placement error. Each landing point goes onto the CAD mesh along its normal (eq. (3), "
+         "by touch). The random baseline: force-closure grasps meeting the same task with plain regions, no trust "
+         "mask (docs/planning.md).</p>\n</section>\n";
+}
+
 void writeViewer(std::ostringstream& out, const HtmlReportInput& input, HtmlReportSizes& sizes) {
   out << "<section id=\"viewer-section\">\n<h2>3D viewer</h2>\n";
   if (!input.grasp_label.empty()) out << "<p><b>Grasp:</b> " << htmlEscape(input.grasp_label) << "</p>\n";
@@ -390,7 +432,9 @@ HtmlReport buildHtmlReport(const HtmlReportInput& input) {
          "Noisy Real-World Range Data&rdquo;.</p>\n</header>\n<nav>";
   if (!input.missing.empty()) out << "<a href=\"#missing\">Missing</a>";
   out << "<a href=\"#parameters\">Parameters</a><a href=\"#table1-section\">Table I</a><a href=\"#viewer-section\">3D "
-         "viewer</a><a href=\"#eligibility\">Eligibility</a><a href=\"#fig8\">Fig. 8</a><a href=\"#renders\">Renders</a>"
+         "viewer</a><a href=\"#eligibility\">Eligibility</a>";
+  if (!input.planned_lines.empty()) out << "<a href=\"#planned\">Planned grasps</a>";
+  out << "<a href=\"#fig8\">Fig. 8</a><a href=\"#renders\">Renders</a>"
          "</nav>\n<main>\n";
 
   if (!input.missing.empty()) {
@@ -408,6 +452,7 @@ HtmlReport buildHtmlReport(const HtmlReportInput& input) {
   writeTableOne(out, input);
   writeViewer(out, input, report.sizes);
   writeEligibility(out, input);
+  writePlanned(out, input);
 
   out << "<section id=\"fig8\">\n<h2>Fig. 8: cumulative histograms of Q<sub>n</sub></h2>\n";
   if (input.histograms.empty()) {

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <sstream>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -131,6 +132,21 @@ RunReport buildRunReport(const std::string& run_dir_text, const RunReportOptions
     }
   } else {
     missing("run.json", "the run's parameters and datasets");
+  }
+  // planned.jsonl (optional: runs with --plan-top 0 and older runs lack it).
+  if (const auto text = readText(run_dir / "planned.jsonl")) {
+    std::istringstream lines(*text);
+    std::string line;
+    for (std::size_t number = 1; std::getline(lines, line); ++number) {
+      if (line.empty()) continue;
+      try {
+        (void)nlohmann::json::parse(line).at("dataset");
+        input.planned_lines.push_back(line);
+      } catch (const std::exception& e) {
+        input.warnings.push_back("planned.jsonl line " + std::to_string(number) + " is not a planned-grasp study (" +
+                                 e.what() + "); skipped");
+      }
+    }
   }
   const eval::ExperimentConfig config =
       eval::experimentConfigFromJson(run.is_object() ? run.value("config", nlohmann::json()).dump() : "null");

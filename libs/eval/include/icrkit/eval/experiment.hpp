@@ -24,6 +24,7 @@
 #include <icrkit/eval/experiment_records.hpp>
 #include <icrkit/eval/geodesic_distances.hpp>
 #include <icrkit/eval/normal_line_mappings.hpp>
+#include <icrkit/eval/planned_grasps.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
 #include <icrkit/icr/patch_contacts.hpp>
 
@@ -148,6 +149,16 @@ public:
 
   /// The common wrench frame's lambda (from the CAD mesh), metres.
   double cadLambda() const;
+  /// The planned grasps beside the random ones (planned_grasps.hpp):
+  /// `planning` is run on the raw and the filtered mesh (the filtered one
+  /// preselected as in the experiment) with the task half the median
+  /// epsilon of the CAD test set with its first finger count (sampled here
+  /// when the config has no such set), and the top grasps are executed on
+  /// the CAD mesh; so is the random baseline. `planning.regions`'s task is
+  /// replaced. Deterministic for the seeds.
+  PlannedGraspStudy plannedGrasps(planning::PlanningParameters planning,
+                                  const PlannedExecutionParameters& execution) const;
+
   /// Grasps in the CAD test set of a finger count (sampled in the
   /// constructor; fewer than asked only when sampling ran out of attempts).
   std::size_t sampledGrasps(std::size_t fingers) const;

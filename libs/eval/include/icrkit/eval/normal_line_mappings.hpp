@@ -21,12 +21,19 @@
 ///   are dropped unless none is left. When no such crossing is within reach
 ///   (a hole in S), the surface point of S nearest to p^C within
 ///   `max_line_distance` stands in for the crossing (counted as a fallback).
-/// - P_S2C: the CAD normal is only known once the answer is, so the crossing
-///   is replaced by the CAD surface point nearest to p^S (within
-///   `max_line_distance`); the candidates are the CAD vertices within
-///   `neighbourhood_radius` of it plus its face's vertices. When p^S has a
-///   normal, candidates whose CAD normal faces the other way are dropped
-///   unless none is left (thin walls).
+/// - P_S2C: the CAD normal is only known once the answer is. When p^S has
+///   a normal n^S, the line through p^S along n^S is cast both ways on the
+///   CAD mesh and the nearest crossing within `max_line_distance` of a face
+///   turned the way of n^S (by its vertices' normals) is the anchor: where
+///   a finger approaching along -n^S touches the true surface. Otherwise
+///   (no normal, or no such crossing: counted as a fallback) the CAD
+///   surface point nearest to p^S within `max_line_distance` is. The
+///   candidates are the CAD vertices within `neighbourhood_radius` of the
+///   anchor plus its face's vertices; with n^S, those whose CAD normal
+///   faces the other way are dropped unless none is left. The crossing
+///   matters on thin walls: the nearest CAD point of a cup's outer wall
+///   seen with 1-2 mm noise is often on the inner wall, all of whose
+///   vertices face away (docs/evaluation.md).
 ///
 /// Vertices used by no face (points left unmeshed) are never chosen.
 ///

@@ -45,6 +45,10 @@ struct StudyStages {
   std::function<StudyMeshes(const std::string& name, std::size_t position, const ProgressCallback& progress)> meshes;
   /// Optional: called after a dataset's part has run, with its meshes and records.
   std::function<void(const DatasetMeshes& meshes, const std::vector<GraspRecord>& records)> after;
+  /// Optional: called with a dataset's experiment by the one shard that
+  /// holds the dataset's first grasp (per-dataset work done once over all
+  /// shards: the planned-grasp study).
+  std::function<void(const DatasetExperiment& experiment)> first_shard;
   /// Optional: a line for the user ("[1/9] cup_kinect_B: evaluating grasps 0..400").
   std::function<void(const std::string& message)> note;
 };

@@ -35,7 +35,7 @@ struct PlanningParameters {
   std::size_t top = 10;             ///< grasps returned (over all finger counts)
   std::size_t candidates = 1000;    ///< random contact sets drawn per finger count
   /// Hulls built per finger count, for the candidates whose epsilon bound is
-  /// largest; unset: max(8 top, 64), at most `candidates`.
+  /// largest; unset: max(20 top, 64), at most `candidates`.
   std::optional<std::size_t> hulls;
   std::uint64_t seed = 1;
   /// The task and the growth: contact model, TWS (alpha x each candidate's

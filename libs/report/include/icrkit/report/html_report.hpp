@@ -64,6 +64,9 @@ struct HtmlReportInput {
   std::vector<ReportSvg> histograms;       ///< Fig. 8
   std::vector<ReportImage> renders;
   std::string renders_note;                ///< shown when `renders` is empty
+  /// planned.jsonl's lines (eval/planned_grasps.hpp): the planned grasps
+  /// executed on the CAD mesh beside the random baseline; empty: no section.
+  std::vector<std::string> planned_lines;
   std::vector<std::string> missing;        ///< files the run folder lacks ("what" strings)
   std::vector<std::string> warnings;       ///< other problems worth stating (e.g. a mesh that failed to read)
 
