@@ -34,9 +34,30 @@ for i in 0 1 2; do
 done
 expect_exit 0 "$icrkit" merge "$work/shard0" "$work/shard1" "$work/shard2" -o "$work/merged" --quiet
 for f in table1.md table1.csv table1.json table1.svg table1.png eligibility.json grasps.jsonl fig8_4fingers.svg fig8_4fingers.png \
-         fig8_4fingers.json fig8_5fingers.svg fig8_5fingers.png fig8_5fingers.json; do
+         fig8_4fingers.json fig8_5fingers.svg fig8_5fingers.png fig8_5fingers.json planned.jsonl planned.md; do
   cmp -s "$work/full/$f" "$work/merged/$f" || fail "merged shards differ from the unsharded run in $f"
 done
+# The planned grasps (--plan-top, default 10) beside the random ones: one
+# study for the dataset, made by the shard holding its first grasp. The
+# filtered mesh is the CAD mesh itself: every aimed grasp and pick holds.
+[ -s "$work/shard0/planned.jsonl" ] && [ ! -e "$work/shard1/planned.jsonl" ] ||
+  fail "the planned grasps were not made by shard 0 alone"
+py "
+import json
+lines = open('$work/full/planned.jsonl').read().splitlines()
+assert len(lines) == 1, lines
+s = json.loads(lines[0])
+assert s['dataset'] == 'toy' and s['fingers'] == 4 and s['tws_radius'] > 0, s
+f = s['filtered']
+assert 'error' not in f and len(f['grasps']) > 0, f
+assert f['aimed_held_fraction'] == 1.0 and f['picks_held_fraction'] == 1.0, f
+assert 'filtered_random' in s and 'raw_random' in s
+run = json.load(open('$work/full/run.json'))
+assert run['plan']['top'] == 10, run.get('plan')
+" || fail "evaluate: planned.jsonl wrong"
+grep -q "| toy | filtered | " "$work/full/planned.md" || fail "planned.md has no filtered row"
+expect_exit 0 "$icrkit" evaluate "${args[@]}" --plan-top 0 -o "$work/unplanned" --quiet
+[ ! -e "$work/unplanned/planned.jsonl" ] || fail "--plan-top 0 still planned"
 expect_exit 0 "$icrkit" --threads 1 evaluate "${args[@]}" -o "$work/one_thread" --quiet
 cmp -s "$work/full/grasps.jsonl" "$work/one_thread/grasps.jsonl" || fail "one thread changed the records"
 

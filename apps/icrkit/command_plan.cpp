@@ -89,6 +89,7 @@ void run(const PlanOptions& options, CommandContext& context) {
                       {"hulls_built", f.hulls_built},
                       {"not_force_closure", f.not_force_closure},
                       {"below_task", f.below_task},
+                      {"small_regions", f.small_regions},
                       {"with_regions", f.with_regions}});
   nlohmann::json grasps = nlohmann::json::array();
   for (const planning::PlannedGrasp& g : plan.grasps) {
@@ -113,7 +114,8 @@ void run(const PlanOptions& options, CommandContext& context) {
                            {"near_rim", r.trust.near_rim},
                            {"normal_spread", r.trust.normal_spread},
                            {"normal_sigma", r.trust.normal_sigma},
-                           {"weak_support", r.trust.weak_support}}},
+                           {"weak_support", r.trust.weak_support},
+                           {"low_flatness", r.trust.low_flatness}}},
                          {"finger_counts", counts},
                          {"grasps", grasps}};
   summary.update(graspMeshJson(input, options.mesh, 0));

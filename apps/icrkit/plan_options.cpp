@@ -62,6 +62,13 @@ void addPlanOptions(CLI::App& command, PlanOptions& options) {
                      "No finger where a vertex under the footprint has a `cardinality` below this fraction of the "
                      "mesh's median (0: off; ignored without the attribute)")
       ->capture_default_str();
+  command.add_option("--min-flatness", options.min_flatness,
+                     "No finger where the mesh's `flatness` is below this fraction of its median (0: off; ignored "
+                     "without the attribute)")
+      ->capture_default_str();
+  command.add_option("--min-region-area", options.min_region_area,
+                     "Drop candidates with a region smaller than this (m²; default: drop regions without a whole "
+                     "triangle)");
   command.add_option("--seed", options.seed, "Seed of the candidate draws")->capture_default_str();
   command.add_option("--renders", options.renders, "Grasps drawn in the PNG next to the plan (0: no PNG)")
       ->check(CLI::Range(0, 20))
@@ -97,8 +104,11 @@ planning::PlanningParameters planningParameters(const PlanOptions& options) {
   p.trust.max_normal_spread_rad = options.max_normal_spread;
   p.trust.max_normal_sigma_rad = options.max_normal_sigma;
   p.trust.max_spread_fraction = options.max_spread_fraction;
+  p.min_region_area_m2 = options.min_region_area;
   if (options.min_support > 0.0) p.trust.min_relative_support = options.min_support;
   else p.trust.min_relative_support.reset();
+  if (options.min_flatness > 0.0) p.trust.min_relative_flatness = options.min_flatness;
+  else p.trust.min_relative_flatness.reset();
   return p;
 }
 
@@ -117,7 +127,9 @@ void mapPlanFields(CommandContext& context) {
                      {"ContactTrustParameters::max_normal_spread_rad", "--max-normal-spread"},
                      {"ContactTrustParameters::max_normal_sigma_rad", "--max-normal-sigma"},
                      {"ContactTrustParameters::min_relative_support", "--min-support"},
-                     {"ContactTrustParameters::max_spread_fraction", "--max-spread-fraction"}});
+                     {"ContactTrustParameters::max_spread_fraction", "--max-spread-fraction"},
+                     {"ContactTrustParameters::min_relative_flatness", "--min-flatness"},
+                     {"PlanningParameters::min_region_area_m2", "--min-region-area"}});
 }
 
 }  // namespace icrkit::app

@@ -33,6 +33,8 @@ struct PlanOptions {
   double max_normal_sigma = 0.25;
   double min_support = 1.0 / 3.0;
   double max_spread_fraction = 0.1;
+  double min_flatness = 0.75;
+  std::optional<double> min_region_area;
   std::uint64_t seed = 1;
   int renders = 3;
   std::string output;

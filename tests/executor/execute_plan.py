@@ -15,7 +15,7 @@ vertex normal) and placement-error trials (every finger aimed at its
 recommended contact plus a 2-D Gaussian offset in its tangent plane). A grasp
 holds when its wrenches' convex hull holds the TWS ball of the plan's radius.
 
-Usage: execute_plan.py PLAN --cad CAD [--mesh M] [--transform F] [--top K]
+Usage: execute_plan.py PLAN --cad CAD [--mesh M] [--compute-normals] [--transform F] [--top K]
        [--picks N] [--placement-samples N] [--placement-error S] [--standoff S]
        [--seed N] [--json OUT]
 Exit 0 after an execution, 2 on bad input (one line naming the file).
@@ -189,6 +189,18 @@ class Mesh:
             self.normals = n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
         self.triangles = _triangulate(faces, path, len(self.positions))
 
+    def compute_normals(self):
+        """Vertex normals from the faces (area-weighted, the winding's side), as icrkit's --compute-normals."""
+        t = self.triangles
+        a, b, c = (self.positions[t[:, k]] for k in range(3))
+        face = np.cross(b - a, c - a)
+        n = np.zeros_like(self.positions)
+        for k in range(3):
+            np.add.at(n, t[:, k], face)
+        length = np.linalg.norm(n, axis=1, keepdims=True)
+        self.normals = np.where(length > 0, n / np.maximum(length, 1e-300), 0.0)
+        return self
+
 
 class ToucherOnCad:
     """Ray casting onto the CAD mesh: the first front-facing triangle along a finger's approach."""
@@ -242,7 +254,10 @@ class ToucherOnCad:
         v = (qv @ direction) * inv
         t = np.einsum('ij,ij->i', e2, qv) * inv
         facing = self.face_normals[idx] @ n > 0.0
-        hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0) & (t <= length) & facing
+        # A ray through a vertex or an edge (a finger aimed at a mesh vertex of
+        # the CAD itself) must not slip through the crack between triangles.
+        tol = 1e-9
+        hit = ok & (u >= -tol) & (v >= -tol) & (u + v <= 1 + tol) & (t >= 0) & (t <= length) & facing
         if not np.any(hit):
             return None
         k = np.argmin(np.where(hit, t, np.inf))
@@ -413,6 +428,8 @@ def main(argv=None):
     ap.add_argument('plan')
     ap.add_argument('--cad', required=True, help='the true object (PLY or OBJ)')
     ap.add_argument('--mesh', help="the plan's mesh (default: the plan's \"mesh\")")
+    ap.add_argument('--compute-normals', action='store_true',
+                    help="derive the plan mesh's vertex normals from its faces (a mesh without normals)")
     ap.add_argument('--transform', help='JSON 4x4 matrix taking the plan mesh to the CAD frame')
     ap.add_argument('--top', type=int)
     ap.add_argument('--picks', type=int, default=100)
@@ -431,6 +448,8 @@ def main(argv=None):
             if key not in plan:
                 raise InputError(f'{a.plan}: expected the key {key!r}')
         recon = Mesh(a.mesh or plan['mesh'])
+        if a.compute_normals:
+            recon.compute_normals()
         cad = Mesh(a.cad)
         transform = read_transform(a.transform) if a.transform else None
         result = execute_plan(plan, recon, cad, a.top, a.picks, a.placement_samples, a.placement_error,

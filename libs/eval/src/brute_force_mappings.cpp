@@ -97,20 +97,40 @@ VertexImage bruteForceScanToCad(const TriangleMesh& cad, const Eigen::Vector3d& 
                                 double max_line_distance) {
   VertexImage image;
   const auto& p = cad.vertices.positions;
-  double best = std::numeric_limits<double>::infinity();
+  const bool sided = scan_normal.squaredNorm() > 0.0;
   int face = -1;
   Eigen::Vector3d anchor;
-  for (std::size_t i = 0; i < cad.faces.size(); ++i) {
-    const Triangle& f = cad.faces[i];
-    const TrianglePoint q = closestPointOnTriangle(scan_point, p[f[0]], p[f[1]], p[f[2]]);
-    if (q.distance < best) {
-      best = q.distance;
+  if (sided) {  // the nearest crossing of the scan normal's line with a CAD face turned its way
+    const Eigen::Vector3d direction = scan_normal.normalized();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < cad.faces.size(); ++i) {
+      const Triangle& f = cad.faces[i];
+      double t = 0.0;
+      if (!detail::lineMeetsTriangle(scan_point, direction, p[f[0]], p[f[1]], p[f[2]], 0.0, t) ||
+          std::abs(t) > max_line_distance || std::abs(t) >= nearest)
+        continue;
+      const Eigen::Vector3d face_normal = cad.vertices.normals[f[0]] + cad.vertices.normals[f[1]] +
+                                          cad.vertices.normals[f[2]];
+      if (!(face_normal.dot(direction) > 0.0)) continue;
+      nearest = std::abs(t);
       face = static_cast<int>(i);
-      anchor = q.point;
+      anchor = scan_point + t * direction;
     }
   }
-  if (!(best <= max_line_distance)) return image;
-  const bool sided = scan_normal.squaredNorm() > 0.0;
+  if (face < 0) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < cad.faces.size(); ++i) {
+      const Triangle& f = cad.faces[i];
+      const TrianglePoint q = closestPointOnTriangle(scan_point, p[f[0]], p[f[1]], p[f[2]]);
+      if (q.distance < best) {
+        best = q.distance;
+        face = static_cast<int>(i);
+        anchor = q.point;
+      }
+    }
+    if (!(best <= max_line_distance)) return image;
+    image.fallback = sided;
+  }
   Best facing, any;
   for (std::size_t v = 0; v < p.size(); ++v) {
     if (!isCandidate(cad, static_cast<int>(v), anchor, face, neighbourhood_radius)) continue;

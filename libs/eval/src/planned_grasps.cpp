@@ -185,8 +185,9 @@ nlohmann::json meshStudyJson(const PlannedMeshStudy& s) {
                       {"placements", g.placements},
                       {"placements_held", g.placements_held},
                       {"unmapped", g.unmapped}});
+  // No timings: the file is part of the results, which merged shards
+  // reproduce byte for byte.
   nlohmann::json j{{"mesh", s.mesh},
-                   {"plan_ms", s.plan_ms},
                    {"grasps", grasps},
                    {"aimed_held_fraction", s.aimedHeldFraction()},
                    {"picks_held_fraction", s.picksHeldFraction()},
@@ -210,6 +211,8 @@ planning::PlanningParameters randomBaselineParameters(const planning::PlanningPa
   p.trust.footprint_radius_m = 0.0;
   p.trust.max_normal_spread_rad = M_PI;
   p.trust.max_normal_sigma_rad.reset();
+  p.trust.min_relative_support.reset();
+  p.trust.min_relative_flatness.reset();
   p.task_margin = 0.0;
   p.regions.conservative.reset();
   // Every drawn candidate gets a hull and every one meeting the task is

@@ -116,6 +116,27 @@ TEST(NormalLineMappings, AThinWallsOtherSideIsNeverChosen) {
   EXPECT_EQ(back.vertex, static_cast<int>(bottom_vertex));
 }
 
+TEST(NormalLineMappings, AScanPointInsideAThinWallMapsToTheSideItsNormalFaces) {
+  // A cup's wall 2 mm thick seen with noise: the scan point lies 0.3 mm
+  // above the wall's bottom sheet, nearer to it than to the top sheet, but
+  // its normal says the finger comes from above. By touch, the finger meets
+  // the top sheet; the nearest CAD point is on the bottom one, all of whose
+  // vertices face away.
+  const TriangleMesh wall = thinWall(0.002, 20, 0.04);
+  const ScanToCadMapping s2c(wall);
+  const std::size_t top_vertex = 8 * 21 + 9;
+  const Eigen::Vector3d point = wall.vertices.positions[top_vertex] - Eigen::Vector3d(0, 0, 0.0017);
+  const VertexImage image = s2c.map(point, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(image.vertex, static_cast<int>(top_vertex));
+  EXPECT_FALSE(image.fallback);
+  const VertexImage slow = bruteForceScanToCad(wall, point, Eigen::Vector3d::UnitZ(), s2c.target().neighbourhoodRadius(),
+                                               s2c.target().maxLineDistance());
+  EXPECT_EQ(slow.vertex, image.vertex);
+  // Without a normal there is no side to touch: the nearest surface decides.
+  const VertexImage unsided = s2c.map(point);
+  EXPECT_EQ(unsided.vertex, static_cast<int>(21 * 21 + top_vertex));
+}
+
 TEST(NormalLineMappings, ALineThroughAHoleFallsBackToTheNearestSurface) {
   const TriangleMesh cad = thinWall(0.002, 20, 0.04);
   TriangleMesh scan = cad;

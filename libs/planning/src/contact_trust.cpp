@@ -65,6 +65,7 @@ void ContactTrustParameters::validate() const {
                      "expected a fraction in [0, 1), got " + std::to_string(max_spread_fraction));
   if (max_normal_sigma_rad) requireLength("ContactTrustParameters::max_normal_sigma_rad", *max_normal_sigma_rad);
   if (min_relative_support) requireLength("ContactTrustParameters::min_relative_support", *min_relative_support);
+  if (min_relative_flatness) requireLength("ContactTrustParameters::min_relative_flatness", *min_relative_flatness);
 }
 
 ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std::uint8_t>& excluded,
@@ -101,6 +102,22 @@ ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std:
       const double bound = *params.min_relative_support * *mid;
       for (std::size_t v = 0; v < n; ++v)
         if (referenced[v] && !(support->values[v] >= bound)) weak[v] = any_weak = 1;
+    }
+  }
+
+  // Rounded features: flatness below the fraction of its median.
+  std::vector<std::uint8_t> rounded(n, 0);
+  if (const Attribute* flatness =
+          params.min_relative_flatness ? mesh.vertices.attributes.find("flatness") : nullptr) {
+    std::vector<double> values;
+    for (std::size_t v = 0; v < n; ++v)
+      if (referenced[v]) values.push_back(flatness->values[v]);
+    if (!values.empty()) {
+      const auto mid = values.begin() + static_cast<long>(values.size() / 2);
+      std::nth_element(values.begin(), mid, values.end());
+      const double bound = *params.min_relative_flatness * *mid;
+      for (std::size_t v = 0; v < n; ++v)
+        if (referenced[v] && !(flatness->values[v] >= bound)) rounded[v] = 1;
     }
   }
 
@@ -156,6 +173,8 @@ ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std:
       ++r.normal_sigma;
     } else if (!support_ok[v]) {
       ++r.weak_support;
+    } else if (rounded[v]) {
+      ++r.low_flatness;
     } else {
       trust.untrusted[v] = 0;
       ++r.trusted;

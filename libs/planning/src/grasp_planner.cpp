@@ -62,6 +62,7 @@ struct Scored {
   PlannedGrasp grasp;
   bool ok = false;
   bool force_closure = false;
+  bool small_region = false;  // met the task, but a region is below the minimum area
 };
 
 bool better(const PlannedGrasp& a, const PlannedGrasp& b) {
@@ -82,6 +83,9 @@ void PlanningParameters::validate() const {
   if (top < 1) throw InputError("PlanningParameters::top", "", "expected at least 1 grasp to return, got 0");
   if (candidates < 1) throw InputError("PlanningParameters::candidates", "", "expected at least 1 candidate");
   if (hulls && *hulls < 1) throw InputError("PlanningParameters::hulls", "", "expected at least 1 hull");
+  if (min_region_area_m2 && !(std::isfinite(*min_region_area_m2) && *min_region_area_m2 >= 0.0))
+    throw InputError("PlanningParameters::min_region_area_m2", "",
+                     "expected a finite area >= 0 (m²), got " + std::to_string(*min_region_area_m2));
   if (!(std::isfinite(task_margin) && task_margin >= 0.0))
     throw InputError("PlanningParameters::task_margin", "", "expected a finite margin >= 0, got " + std::to_string(task_margin));
   if (regions.tws_wrenches)
@@ -117,6 +121,7 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
   std::vector<int> eligible;
   for (std::size_t v = 0; v < trusted.vertexCount(); ++v)
     if (trusted.eligible(v)) eligible.push_back(static_cast<int>(v));
+  const std::optional<double> min_area = params.min_region_area_m2;
   const PlacementScorer scorer(trusted, params.placement);
   report.trust_ms = msSince(phase);
 
@@ -143,7 +148,8 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
                            std::to_string(report.trust.near_rim) + " near the rim, " +
                            std::to_string(report.trust.normal_spread) + " under disagreeing normals, " +
                            std::to_string(report.trust.normal_sigma) + " with a large normal_sigma, " +
-                           std::to_string(report.trust.weak_support) + " on thinly supported surface)");
+                           std::to_string(report.trust.weak_support) + " on thinly supported surface, " +
+                           std::to_string(report.trust.low_flatness) + " on rounded features)");
     const auto columns = per_contact * static_cast<Eigen::Index>(fingers);
 
     // 1. Draw and screen without hulls.
@@ -209,8 +215,12 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
         s.grasp.regions = icr::computeIndependentContactRegions(trusted, c.contacts, gws, growth);
         // Conservative growth can leave a region empty: nowhere to aim that finger.
         if (std::any_of(s.grasp.regions.regions.begin(), s.grasp.regions.regions.end(),
-                        [](const icr::ContactRegion& r) { return r.vertices.empty(); }))
+                        [&](const icr::ContactRegion& r) {
+                          return r.vertices.empty() || (min_area ? r.area_m2 < *min_area : !(r.area_m2 > 0.0));
+                        })) {
+          s.small_region = true;
           continue;
+        }
         s.grasp.fingers = fingers;
         s.grasp.candidate = order[k];
         s.grasp.contacts = c.contacts;
@@ -228,6 +238,10 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
       }
       ++force_closure_total;
       best_epsilon = std::max(best_epsilon, s.grasp.epsilon);
+      if (s.small_region) {
+        ++fc.small_regions;
+        continue;
+      }
       if (!s.ok) {
         ++fc.below_task;
         continue;
@@ -247,13 +261,20 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
                      "no force-closure grasp among " + std::to_string(total) + " candidates drawn from " +
                          std::to_string(eligible.size()) + " trusted vertices; try more --candidates");
   if (scored.empty()) {
+    std::size_t small_total = 0;
+    for (const FingerCountReport& f : report.finger_counts) small_total += f.small_regions;
+    const std::string small =
+        small_total == 0 ? std::string()
+                         : "; " + std::to_string(small_total) + " met it with a region of " +
+                               (min_area ? "less than " + std::to_string(*min_area * 1e6) + " mm²" : std::string("no area")) +
+                               " (--min-region-area)";
     const std::string need = params.regions.tws_radius ? std::to_string(absolute_need)
                                                        : "alpha x (1 + margin) of its epsilon";
     throw InputError("grasp planning", "",
                      "no candidate meets the task: " + std::to_string(total) + " candidates tried, " +
                          std::to_string(force_closure_total) + " force closure, largest epsilon " +
                          (force_closure_total ? std::to_string(best_epsilon) : std::string("none")) +
-                         ", the task with its margin needs " + need);
+                         ", the task with its margin needs " + need + small);
   }
   std::sort(scored.begin(), scored.end(), better);
   if (scored.size() > params.top) scored.resize(params.top);

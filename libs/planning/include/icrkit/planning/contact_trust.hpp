@@ -51,6 +51,14 @@ struct ContactTrustParameters {
   /// vertices more than 5 mm from the true surface and 6-23 % of the others
   /// (docs/planning.md).
   std::optional<double> min_relative_support = 1.0 / 3.0;
+  /// When set and the mesh has `flatness` (the NDT window's planarity, the
+  /// smoothing's attribute), vertices whose flatness is below this fraction
+  /// of the mesh's median are not trusted: the smoothing rounded a feature
+  /// there (a wheel, a step, an edge) that the true surface has, and a
+  /// finger approaching along the rounded normal touches the feature at
+  /// another angle. 0.75 flags 55-98 % of the vertices whose by-touch
+  /// normal is more than 30 deg off on the toys (7-23 % of the others).
+  std::optional<double> min_relative_flatness = 0.75;
 
   /// InputError naming the field (`ContactTrustParameters::rim_distance_m`, ...)
   /// for a negative or non-finite value.
@@ -65,6 +73,7 @@ struct ContactTrustReport {
   std::size_t normal_spread = 0;   ///< untrusted: normals under the footprint disagree
   std::size_t normal_sigma = 0;    ///< untrusted: normal_sigma above the bound
   std::size_t weak_support = 0;    ///< untrusted: thinly supported surface under the footprint
+  std::size_t low_flatness = 0;    ///< untrusted: a rounded feature (flatness far below the median)
 };
 
 struct ContactTrust {

@@ -47,6 +47,12 @@ struct PlanningParameters {
   /// gets wrong where the trust mask cannot see it. The plan still states
   /// the task asked (PlannedGrasp::tws_radius).
   double task_margin = 0.25;
+  /// Candidates with a region smaller than this (m²) are dropped. Unset:
+  /// regions without a whole triangle (area 0) are: a region of one or two
+  /// vertices has nothing around it that confirms the mesh (on a
+  /// misregistered bottle such a region sat on a ghost surface, its normal
+  /// 60 deg off). A robot with a known fingertip may ask for its area.
+  std::optional<double> min_region_area_m2;
   ContactTrustParameters trust;
   PlacementParameters placement;
 
@@ -74,6 +80,7 @@ struct FingerCountReport {
   std::size_t hulls_built = 0;
   std::size_t not_force_closure = 0;  ///< hull built, not force closure
   std::size_t below_task = 0;         ///< force closure, epsilon below the task
+  std::size_t small_regions = 0;      ///< met the task, a region below min_region_area_m2 (or empty)
   std::size_t with_regions = 0;       ///< regions grown and scored
 };
 
