@@ -34,7 +34,8 @@ for i in 0 1 2; do
 done
 expect_exit 0 "$icrkit" merge "$work/shard0" "$work/shard1" "$work/shard2" -o "$work/merged" --quiet
 for f in table1.md table1.csv table1.json table1.svg table1.png eligibility.json grasps.jsonl fig8_4fingers.svg fig8_4fingers.png \
-         fig8_4fingers.json fig8_5fingers.svg fig8_5fingers.png fig8_5fingers.json planned.jsonl planned.md; do
+         fig8_4fingers.json fig8_5fingers.svg fig8_5fingers.png fig8_5fingers.json planned.jsonl planned.md \
+         surface.jsonl surface.md; do
   cmp -s "$work/full/$f" "$work/merged/$f" || fail "merged shards differ from the unsharded run in $f"
 done
 # The planned grasps (--plan-top, default 10) beside the random ones: one
@@ -56,6 +57,13 @@ run = json.load(open('$work/full/run.json'))
 assert run['plan']['top'] == 10, run.get('plan')
 " || fail "evaluate: planned.jsonl wrong"
 grep -q "| toy | filtered | " "$work/full/planned.md" || fail "planned.md has no filtered row"
+# Surface accuracy: the filtered mesh is the CAD mesh itself (distance 0).
+py "
+import json
+s = json.loads(open('$work/full/surface.jsonl').readline())
+assert s['dataset'] == 'toy' and s['filtered']['all']['mean_distance_m'] < 1e-9, s
+assert s['raw']['all']['mean_distance_m'] > 0, s
+" || fail "evaluate: surface.jsonl wrong"
 expect_exit 0 "$icrkit" evaluate "${args[@]}" --plan-top 0 -o "$work/unplanned" --quiet
 [ ! -e "$work/unplanned/planned.jsonl" ] || fail "--plan-top 0 still planned"
 expect_exit 0 "$icrkit" --threads 1 evaluate "${args[@]}" -o "$work/one_thread" --quiet

@@ -61,10 +61,11 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   if (!warning.empty()) context.note(warning);
 
   const double plan_start = context.elapsedMs();
-  std::vector<std::string> planned;
+  std::vector<std::string> planned, surface;
   if (begin == 0) {
     const std::string line = runPlannedStudy(o.experiment, *experiment, context);
     if (!line.empty()) planned.push_back(line);
+    surface.push_back(runSurfaceStudy(*experiment));
   }
   const double plan_ms = context.elapsedMs() - plan_start;
 
@@ -99,6 +100,7 @@ nlohmann::json evaluate(const EvaluateOptions& o, CommandContext& context) {
   report::WrittenOutputs written = report::writeExperimentOutputs(o.output, records, outputs);
   std::vector<std::string>& files = written.files;
   for (const std::string& f : writePlannedStudies(o.output, planned)) files.push_back(f);
+  for (const std::string& f : writeSurfaceStudies(o.output, surface)) files.push_back(f);
   const double render_start = context.elapsedMs();
   for (const std::string& f : report::writeGraspRenders(o.output, eval::DatasetMeshes{name, &cad, &raw, &filtered},
                                                         config, records, o.experiment.renders))

@@ -35,6 +35,7 @@ nlohmann::json merge(const MergeOptions& o, CommandContext& context) {
   if (merged.sensitivity)  // an `icrkit sensitivity` study: its own table from the merged records
     for (const std::string& f : report::writeSensitivityOutputs(o.output, *merged.sensitivity)) files.push_back(f);
   for (const std::string& f : writePlannedStudies(o.output, merged.planned_lines)) files.push_back(f);
+  for (const std::string& f : writeSurfaceStudies(o.output, merged.surface_lines)) files.push_back(f);
   for (const std::string& from : merged.render_files) {
     const fs::path to = fs::path(eval::RunFolder{o.output}.renders()) / fs::path(from).filename();
     fs::create_directories(to.parent_path());

@@ -48,10 +48,11 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
     for (const std::string& f : report::writeGraspRenders(o.output, meshes, config, part, o.experiment.renders))
       renders.push_back(f);
   };
-  std::vector<std::string> planned;
+  std::vector<std::string> planned, surface;
   stages.first_shard = [&](const eval::DatasetExperiment& experiment) {
     const std::string line = runPlannedStudy(o.experiment, experiment, context);
     if (!line.empty()) planned.push_back(line);
+    surface.push_back(runSurfaceStudy(experiment));
   };
   stages.note = [&](const std::string& message) { context.note(message); };
   const eval::StudyResult study = eval::runStudy(order, config, shard, stages, context.progress());
@@ -95,6 +96,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
   report::WrittenOutputs written = report::writeExperimentOutputs(o.output, study.records, outputs);
   written.files.insert(written.files.end(), renders.begin(), renders.end());
   for (const std::string& f : writePlannedStudies(o.output, planned)) written.files.push_back(f);
+  for (const std::string& f : writeSurfaceStudies(o.output, surface)) written.files.push_back(f);
   return {{"output", o.output},
           {"warnings", warnings},
           {"datasets", datasets},

@@ -9,6 +9,7 @@
 #include <icrkit/core/mesh_normals.hpp>
 #include <icrkit/eval/rigid_alignment.hpp>
 #include <icrkit/eval/study.hpp>
+#include <icrkit/eval/surface_accuracy.hpp>
 
 #include <icrkit/core/atomic_file.hpp>
 
@@ -235,6 +236,27 @@ std::vector<std::string> writePlannedStudies(const std::string& dir, const std::
   });
   writeFileAtomically(md, [&](std::ostream& out) {
     out << "# Planned grasps executed on the CAD mesh\n\n" << eval::plannedGraspStudiesMarkdown(lines);
+  });
+  return {jsonl, md};
+}
+
+std::string runSurfaceStudy(const eval::DatasetExperiment& experiment) {
+  const eval::DatasetMeshes& m = experiment.meshes();
+  return eval::datasetSurfaceAccuracyJson(m.name, *m.cad, *m.raw, *m.filtered);
+}
+
+std::vector<std::string> writeSurfaceStudies(const std::string& dir, const std::vector<std::string>& lines) {
+  if (lines.empty()) return {};
+  const std::string jsonl = (std::filesystem::path(dir) / "surface.jsonl").string();
+  const std::string md = (std::filesystem::path(dir) / "surface.md").string();
+  writeFileAtomically(jsonl, [&](std::ostream& out) {
+    for (const std::string& l : lines) out << l << "\n";
+  });
+  writeFileAtomically(md, [&](std::ostream& out) {
+    out << "# Surface accuracy against the CAD mesh\n\nPer vertex: distance to the CAD surface and angle between "
+           "the vertex normal and the CAD face normal there; near edges = within 4 mm of a CAD edge whose faces "
+           "differ by more than 30 deg (docs/evaluation.md).\n\n"
+        << eval::surfaceAccuracyMarkdown(lines);
   });
   return {jsonl, md};
 }

@@ -74,6 +74,14 @@ std::string runPlannedStudy(const ExperimentOptions& options, const eval::Datase
 /// lines; nothing without lines. Returns the files written.
 std::vector<std::string> writePlannedStudies(const std::string& dir, const std::vector<std::string>& lines);
 
+/// The surface accuracy of the raw and filtered meshes against the CAD mesh
+/// (one line of surface.jsonl, eval/surface_accuracy.hpp).
+std::string runSurfaceStudy(const eval::DatasetExperiment& experiment);
+
+/// Writes DIR/surface.jsonl and surface.md (atomically) from the lines;
+/// nothing without lines. Returns the files written.
+std::vector<std::string> writeSurfaceStudies(const std::string& dir, const std::vector<std::string>& lines);
+
 /// A mesh for the experiment: faces required; vertex normals from the
 /// file, or with `compute` derived from the faces (noted), else an
 /// InputError naming the file and --compute-normals.

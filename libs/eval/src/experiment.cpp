@@ -543,6 +543,8 @@ std::size_t DatasetExperiment::itemCount() const {
 
 double DatasetExperiment::cadLambda() const { return impl_->frame.lambda; }
 
+const DatasetMeshes& DatasetExperiment::meshes() const { return impl_->meshes; }
+
 std::size_t DatasetExperiment::sampledGrasps(std::size_t fingers) const {
   for (const auto& set : impl_->test_sets)
     if (set.fingers == fingers) return set.grasps.size();

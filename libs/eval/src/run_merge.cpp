@@ -58,6 +58,34 @@ std::vector<std::string> wantedRenders(const std::vector<std::string>& folders, 
   return files;
 }
 
+// The lines of a per-dataset file (one JSON object with "dataset" per line,
+// each dataset in one shard only) over all shards, in dataset order.
+std::vector<std::string> datasetLines(const std::vector<std::string>& folders, const std::string& file,
+                                      const std::vector<std::string>& order) {
+  std::map<std::string, std::string> lines;  // dataset -> line
+  for (const std::string& folder : folders) {
+    const fs::path path = fs::path(folder) / file;
+    std::ifstream in(path);
+    std::string line;
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+      if (line.empty()) continue;
+      std::string dataset;
+      try {
+        dataset = nlohmann::json::parse(line).at("dataset").get<std::string>();
+      } catch (const std::exception& error) {
+        throw InputError(path.string(), "line " + std::to_string(number),
+                         std::string("expected a JSON object with \"dataset\": ") + error.what());
+      }
+      if (!lines.emplace(dataset, line).second)
+        throw InputError(path.string(), "line " + std::to_string(number), dataset + " appears in two shards");
+    }
+  }
+  std::vector<std::string> ordered;
+  for (const std::string& name : order)
+    if (const auto it = lines.find(name); it != lines.end()) ordered.push_back(it->second);
+  return ordered;
+}
+
 }  // namespace
 
 MergedRun mergeRunFolders(const std::vector<std::string>& folders) {
@@ -109,27 +137,8 @@ MergedRun mergeRunFolders(const std::vector<std::string>& folders) {
         study.at("noise_levels").get<std::vector<double>>(), study.at("rules").get<std::vector<std::string>>());
   }
   merged.render_files = wantedRenders(folders, merged.records, first);
-  std::map<std::string, std::string> planned;  // dataset -> line
-  for (const std::string& folder : folders) {
-    const fs::path path = fs::path(folder) / "planned.jsonl";
-    std::ifstream in(path);
-    std::string line;
-    for (std::size_t number = 1; std::getline(in, line); ++number) {
-      if (line.empty()) continue;
-      std::string dataset;
-      try {
-        dataset = nlohmann::json::parse(line).at("dataset").get<std::string>();
-      } catch (const std::exception& error) {
-        throw InputError(path.string(), "line " + std::to_string(number),
-                         std::string("expected a planned-grasp study (JSON with \"dataset\"): ") + error.what());
-      }
-      if (!planned.emplace(dataset, line).second)
-        throw InputError(path.string(), "line " + std::to_string(number),
-                         "the planned grasps of " + dataset + " appear in two shards");
-    }
-  }
-  for (const std::string& name : merged.dataset_order)
-    if (const auto it = planned.find(name); it != planned.end()) merged.planned_lines.push_back(it->second);
+  merged.planned_lines = datasetLines(folders, "planned.jsonl", merged.dataset_order);
+  merged.surface_lines = datasetLines(folders, "surface.jsonl", merged.dataset_order);
   return merged;
 }
 

@@ -147,6 +147,8 @@ public:
   /// in parallel; records come back sorted. Progress: "grasps", done, total.
   std::vector<GraspRecord> run(std::size_t begin, std::size_t end, const ProgressCallback& progress = {}) const;
 
+  /// The meshes it was made with.
+  const DatasetMeshes& meshes() const;
   /// The common wrench frame's lambda (from the CAD mesh), metres.
   double cadLambda() const;
   /// The planned grasps beside the random ones (planned_grasps.hpp):

@@ -24,9 +24,9 @@ struct MergedRun {
   /// evaluated grasps of each dataset; all of them for runs whose run.json
   /// has no "renders"), to be copied into the merged folder's renders/.
   std::vector<std::string> render_files;
-  /// The shards' planned.jsonl lines (one per dataset, from the shard that
-  /// held its first grasp), in dataset order.
-  std::vector<std::string> planned_lines;
+  /// The shards' planned.jsonl and surface.jsonl lines (one per dataset,
+  /// from the shard that held its first grasp), in dataset order.
+  std::vector<std::string> planned_lines, surface_lines;
   /// A sensitivity study's table, computed from the merged records.
   std::optional<SensitivityTable> sensitivity;
 };
