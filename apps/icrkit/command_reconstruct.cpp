@@ -9,13 +9,18 @@
 #include "depth_folder_options.hpp"
 #include "reconstruct_options.hpp"
 
+#include <icrkit/core/atomic_file.hpp>
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/eval/rigid_alignment.hpp>
+#include <icrkit/eval/surface_accuracy.hpp>
 #include <icrkit/reconstruction/reconstruction_outputs.hpp>
 
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace icrkit::app {
 namespace {
@@ -29,6 +34,12 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   // before the long run, so that a bad file fails at once.
   if (!options.gt_poses.empty())
     record.ground_truth = reconstruction::readGroundTruthPoses(options.input, options.gt_poses, params);
+  std::optional<TriangleMesh> gt_mesh;
+  if (!options.gt_mesh.empty()) {
+    gt_mesh = io::readTriangleMesh(options.gt_mesh);
+    if (gt_mesh->faces.empty()) throw InputError(options.gt_mesh, "", "has no faces; --gt-mesh needs a surface");
+    if (!params.make_meshes) throw InputError("--gt-mesh", "", "measures the meshes, which --no-meshes skips");
+  }
   requireOutputFolder(options.output);
 
   const reconstruction::ReconstructionResult result =
@@ -36,6 +47,26 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   if (result.depth_camera) context.note(depthScaleNote(*result.depth_camera));
   // Everything is computed (and the ground truth checked) before the first file is written.
   nlohmann::json summary = nlohmann::json::parse(reconstruction::reconstructionRecordJson(result, params, record));
+  std::string surface;
+  if (gt_mesh) {
+    const double start = context.elapsedMs();
+    // A reconstruction lies in the frame of the robot's first pose: fit each
+    // mesh to the reference rigidly, as evaluate --align icp does.
+    nlohmann::json fits = nlohmann::json::object();
+    TriangleMesh raw = result.raw_mesh, filtered = result.filtered_mesh;
+    for (auto [mesh, name] : {std::pair<TriangleMesh*, const char*>{&raw, "raw"}, {&filtered, "filtered"}}) {
+      const eval::AlignmentResult fit = eval::alignToCad(*mesh, *gt_mesh);
+      eval::transformMesh(*mesh, fit.transform);
+      fits[name] = {{"rms_before_m", fit.rms_before_m}, {"rms_after_m", fit.rms_after_m}, {"converged", fit.converged}};
+    }
+    nlohmann::json s = nlohmann::json::parse(
+        eval::datasetSurfaceAccuracyJson(std::filesystem::path(options.input).stem().string(), *gt_mesh, raw, filtered));
+    s["gt_mesh"] = options.gt_mesh;
+    s["fit"] = fits;
+    summary["surface"] = s;
+    surface = s.dump();
+    summary["time_ms"]["surface"] = context.elapsedMs() - start;
+  }
   const double write_start = context.elapsedMs();
   reconstruction::writeReconstructionFiles(options.output, result, params.make_meshes,
                                            options.write_registration_input);
@@ -43,6 +74,8 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   if (result.depth_camera) summary["depth_camera"] = depthCameraJson(*result.depth_camera);
   summary["time_ms"]["write"] = context.elapsedMs() - write_start;
   summary["time_ms"]["total"] = context.elapsedMs();
+  if (!surface.empty())
+    writeFileAtomically((std::filesystem::path(options.output) / "surface.json").string(), surface + "\n");
   writeSummaryFile((std::filesystem::path(options.output) / "reconstruction.json").string(), summary);
   return summary;
 }

@@ -45,6 +45,10 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
   command.add_option("--gt-poses", options.gt_poses,
                      "TUM file of true sensor poses, in the same axes and matched as --poses: the summary then "
                      "reports the registration error");
+  command.add_option("--gt-mesh", options.gt_mesh,
+                     "Reference surface of the object (its CAD mesh, metres): the raw and filtered meshes are fitted "
+                     "to it (point-to-plane ICP) and measured per vertex, distance and normal error near its sharp "
+                     "edges and elsewhere, in DIR/surface.json and the summary (docs/evaluation.md)");
   addDepthFolderOptions(command, options.folder);
   command
       .add_option("--rotation-tolerance", options.rotation_tolerance,

@@ -19,6 +19,9 @@ struct ReconstructOptions {
   std::string output;
   std::string poses;
   std::string gt_poses;
+  /// A reference surface (the object's CAD mesh): the raw and filtered
+  /// meshes' accuracy against it, after a rigid fit (surface.json).
+  std::string gt_mesh;
   std::string images;
   std::string range_correction;
   std::string crop;

@@ -9,7 +9,11 @@
 
 #include <Eigen/Geometry>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <limits>
 #include <iomanip>
 #include <sstream>
 #include <map>
@@ -104,6 +108,9 @@ void SurfaceAccuracyParameters::validate() const {
   if (!(std::isfinite(crease_angle_rad) && crease_angle_rad > 0.0 && crease_angle_rad < M_PI))
     throw InputError("SurfaceAccuracyParameters::crease_angle_rad", "",
                      "expected an angle in (0, pi) radians, got " + std::to_string(crease_angle_rad));
+  if (!(std::isfinite(max_line_distance_m) && max_line_distance_m >= 0.0))
+    throw InputError("SurfaceAccuracyParameters::max_line_distance_m", "",
+                     "expected a finite distance >= 0 (metres), got " + std::to_string(max_line_distance_m));
   if (!(std::isfinite(edge_distance_m) && edge_distance_m >= 0.0))
     throw InputError("SurfaceAccuracyParameters::edge_distance_m", "",
                      "expected a finite distance >= 0 (metres), got " + std::to_string(edge_distance_m));
@@ -133,7 +140,32 @@ SurfaceAccuracy measureSurfaceAccuracy(const TriangleMesh& mesh, const TriangleM
     }
   const RayCaster caster(reference);
   const std::vector<ClosestPoint> nearest = caster.closestPoints(queries);
+  std::vector<int> touched(ids.size(), -1);  // the reference face whose normal is compared
   result.normals = mesh.vertices.normals.size() == mesh.vertexCount();
+  // Where the vertex has a normal, "there" is where a finger approaching
+  // along it touches the reference: the nearest crossing of the normal's
+  // line with a reference face turned its way (within max_line_distance_m),
+  // as eq. (3) maps by touch. The nearest reference point alone is often on
+  // a thin wall's other side (a cup's inner surface), whose normal is
+  // opposite.
+  if (result.normals) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), 256), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const Eigen::Vector3d& n = mesh.vertices.normals[ids[i]];
+        const double length = n.norm();
+        if (!(length > 0.0)) continue;
+        const Eigen::Vector3d direction = n / length;
+        double best = std::numeric_limits<double>::infinity();
+        for (const RayHit& hit : caster.allHitsOnLine(queries[i], direction)) {
+          const double t = std::abs(hit.distance);
+          if (t > params.max_line_distance_m || t >= best) continue;
+          if (!(face_normals[static_cast<std::size_t>(hit.face)].dot(direction) > 0.0)) continue;
+          best = t;
+          touched[i] = hit.face;
+        }
+      }
+    });
+  }
 
   std::vector<double> d_all, a_all, d_near, a_near, d_else, a_else;
   for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -143,7 +175,7 @@ SurfaceAccuracy measureSurfaceAccuracy(const TriangleMesh& mesh, const TriangleM
     double angle = 0.0;
     if (result.normals) {
       const Eigen::Vector3d& n = mesh.vertices.normals[ids[i]];
-      const Eigen::Vector3d& r = face_normals[static_cast<std::size_t>(c.face)];
+      const Eigen::Vector3d& r = face_normals[static_cast<std::size_t>(touched[i] >= 0 ? touched[i] : c.face)];
       const double length = n.norm();
       angle = length > 0.0 && !r.isZero() ? std::acos(std::clamp(n.dot(r) / length, -1.0, 1.0)) : M_PI;
     }

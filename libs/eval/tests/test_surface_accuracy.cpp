@@ -61,6 +61,18 @@ TEST(SurfaceAccuracy, DistanceAndNormalErrorOfALiftedTiltedFace) {
   EXPECT_NEAR(a.near_edges.median_normal_error_rad, tilt, 1e-9);
 }
 
+TEST(SurfaceAccuracy, AThinWallsVertexIsComparedWithTheSideItsNormalFaces) {
+  // A box 2 mm thick (a wall); the top face's grid sunk 1.7 mm, nearer the
+  // bottom face, its normals up: compared with the top face (0 deg), not
+  // with the bottom one (180 deg); the distance is to the nearest point.
+  TriangleMesh wall = box(0.04);
+  for (auto& p : wall.vertices.positions) p.z() *= 0.05;  // 2 mm thick
+  const TriangleMesh sunk = liftedTop(0.04, -0.0017 - 0.038, 0.0);
+  const SurfaceAccuracy a = measureSurfaceAccuracy(sunk, wall);
+  EXPECT_NEAR(a.elsewhere.median_normal_error_rad, 0.0, 1e-9);
+  EXPECT_NEAR(a.elsewhere.median_distance_m, 0.0003, 1e-9);
+}
+
 TEST(SurfaceAccuracy, ASphereHasNoSharpEdgesAndItsOwnNormalsAreExact) {
   const TriangleMesh sphere = makeIcosphere(4, 0.05);
   const SurfaceAccuracy a = measureSurfaceAccuracy(sphere, sphere);

@@ -2,8 +2,9 @@
 /// \file
 /// How true a reconstructed mesh is to a reference surface (the CAD mesh),
 /// per vertex, where fingers go: the distance to the reference and the angle
-/// between the vertex normal and the reference face normal at the nearest
-/// reference point, split into vertices near the reference's sharp edges
+/// between the vertex normal and the reference face normal where a finger
+/// approaching along the vertex normal would touch the reference (else at
+/// the nearest reference point), split into vertices near the reference's sharp edges
 /// (creases whose faces differ by more than `crease_angle_rad`) and the
 /// rest. Smoothing rounds edges over its window and pulls thin walls
 /// together; these figures show where (issue 34, docs/evaluation.md).
@@ -28,6 +29,12 @@ struct SurfaceAccuracyParameters {
   /// Vertices whose nearest reference point lies within this distance
   /// (metres) of a sharp edge are "near edges".
   double edge_distance_m = 0.004;
+  /// A vertex's normal is compared with the reference face that the line
+  /// along it first meets turned its way, within this distance (metres), by
+  /// touch as eq. (3) maps; beyond it (or without a normal) with the face
+  /// of the nearest reference point. The distance is always to the nearest
+  /// reference point.
+  double max_line_distance_m = 0.01;
 
   /// InputError naming the field for a value out of range.
   void validate() const;
