@@ -38,7 +38,7 @@ assert v['regions'] == any(json.loads(l)['evaluated'] for l in open('$run/grasps
 html = open('$report', encoding='utf-8').read()
 assert len(open('$report', 'rb').read()) == s['bytes']['total'], s['bytes']
 for needle in ('id=\"table1\"', 'id=\"eligibility-table\"', 'id=\"report-status\"', 'data:image/png;base64,',
-               'fig8_4fingers.svg', 'fig8_5fingers.svg', '<svg'):
+               'fig8_4fingers.svg', 'fig8_5fingers.svg', '<svg', 'id=\"planned-table\"', 'id=\"surface-table\"'):
     assert needle in html, 'report lacks ' + needle
 if v['threejs']:
     assert '<canvas id=\"viewer\"' in html, 'no viewer canvas'

@@ -239,6 +239,42 @@ void writePlanned(std::ostringstream& out, const HtmlReportInput& input) {
          "mask (docs/planning.md).</p>\n</section>\n";
 }
 
+void writeSurface(std::ostringstream& out, const HtmlReportInput& input) {
+  if (input.surface_lines.empty()) return;
+  out << "<section id=\"surface\">\n<h2>Surface accuracy against the CAD mesh</h2>\n"
+         "<table id=\"surface-table\">\n<thead><tr><th class=\"name\">Dataset</th><th class=\"name\">Mesh</th>"
+         "<th>Mean distance (mm)</th><th>near edges</th><th>elsewhere</th><th>Median normal error near edges "
+         "(deg)</th><th>elsewhere</th><th>Vertices near edges</th></tr></thead>\n<tbody>\n";
+  for (const std::string& line : input.surface_lines) {
+    nlohmann::json study;
+    try {
+      study = nlohmann::json::parse(line);
+    } catch (const std::exception&) {
+      continue;  // run_report checked the lines
+    }
+    for (const char* mesh : {"filtered", "raw"}) {
+      if (!study.contains(mesh)) continue;
+      const nlohmann::json& m = study.at(mesh);
+      const auto distance = [&](const char* group) { return fixed(1e3 * m.at(group).value("mean_distance_m", 0.0), 2); };
+      const auto angle = [&](const char* group) {
+        const nlohmann::json& g = m.at(group);
+        return g.contains("median_normal_error_deg") && g.value("vertices", 0) > 0
+                   ? fixed(g.at("median_normal_error_deg").get<double>(), 1)
+                   : std::string("&ndash;");
+      };
+      out << "<tr><td class=\"name\">" << htmlEscape(study.value("dataset", std::string())) << "</td><td class=\"name\">"
+          << mesh << "</td><td>" << distance("all") << "</td><td>" << distance("near_edges") << "</td><td>"
+          << distance("elsewhere") << "</td><td>" << angle("near_edges") << "</td><td>" << angle("elsewhere")
+          << "</td><td>" << m.at("near_edges").value("vertices", 0) << " of " << m.at("all").value("vertices", 0)
+          << "</td></tr>\n";
+    }
+  }
+  out << "</tbody>\n</table>\n<p class=\"note\">Per vertex of each reconstructed mesh: the distance to the CAD "
+         "surface, and the angle between its normal and the CAD face a finger approaching along it touches. Near "
+         "edges: within 4 mm of a CAD edge whose faces differ by more than 30 deg (docs/evaluation.md).</p>\n"
+         "</section>\n";
+}
+
 void writeViewer(std::ostringstream& out, const HtmlReportInput& input, HtmlReportSizes& sizes) {
   out << "<section id=\"viewer-section\">\n<h2>3D viewer</h2>\n";
   if (!input.grasp_label.empty()) out << "<p><b>Grasp:</b> " << htmlEscape(input.grasp_label) << "</p>\n";
@@ -434,6 +470,7 @@ HtmlReport buildHtmlReport(const HtmlReportInput& input) {
   out << "<a href=\"#parameters\">Parameters</a><a href=\"#table1-section\">Table I</a><a href=\"#viewer-section\">3D "
          "viewer</a><a href=\"#eligibility\">Eligibility</a>";
   if (!input.planned_lines.empty()) out << "<a href=\"#planned\">Planned grasps</a>";
+  if (!input.surface_lines.empty()) out << "<a href=\"#surface\">Surface accuracy</a>";
   out << "<a href=\"#fig8\">Fig. 8</a><a href=\"#renders\">Renders</a>"
          "</nav>\n<main>\n";
 
@@ -453,6 +490,7 @@ HtmlReport buildHtmlReport(const HtmlReportInput& input) {
   writeViewer(out, input, report.sizes);
   writeEligibility(out, input);
   writePlanned(out, input);
+  writeSurface(out, input);
 
   out << "<section id=\"fig8\">\n<h2>Fig. 8: cumulative histograms of Q<sub>n</sub></h2>\n";
   if (input.histograms.empty()) {

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -133,18 +134,22 @@ RunReport buildRunReport(const std::string& run_dir_text, const RunReportOptions
   } else {
     missing("run.json", "the run's parameters and datasets");
   }
-  // planned.jsonl (optional: runs with --plan-top 0 and older runs lack it).
-  if (const auto text = readText(run_dir / "planned.jsonl")) {
-    std::istringstream lines(*text);
+  // planned.jsonl and surface.jsonl (optional: older runs lack them, and
+  // runs with --plan-top 0 the first).
+  for (auto [file, lines] : {std::pair<const char*, std::vector<std::string>*>{"planned.jsonl", &input.planned_lines},
+                             {"surface.jsonl", &input.surface_lines}}) {
+    const auto text = readText(run_dir / file);
+    if (!text) continue;
+    std::istringstream stream(*text);
     std::string line;
-    for (std::size_t number = 1; std::getline(lines, line); ++number) {
+    for (std::size_t number = 1; std::getline(stream, line); ++number) {
       if (line.empty()) continue;
       try {
         (void)nlohmann::json::parse(line).at("dataset");
-        input.planned_lines.push_back(line);
+        lines->push_back(line);
       } catch (const std::exception& e) {
-        input.warnings.push_back("planned.jsonl line " + std::to_string(number) + " is not a planned-grasp study (" +
-                                 e.what() + "); skipped");
+        input.warnings.push_back(std::string(file) + " line " + std::to_string(number) +
+                                 " is not a per-dataset study (" + e.what() + "); skipped");
       }
     }
   }

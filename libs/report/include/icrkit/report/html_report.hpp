@@ -67,6 +67,9 @@ struct HtmlReportInput {
   /// planned.jsonl's lines (eval/planned_grasps.hpp): the planned grasps
   /// executed on the CAD mesh beside the random baseline; empty: no section.
   std::vector<std::string> planned_lines;
+  /// surface.jsonl's lines (eval/surface_accuracy.hpp): each reconstructed
+  /// mesh's distance and normal error against the CAD mesh; empty: no section.
+  std::vector<std::string> surface_lines;
   std::vector<std::string> missing;        ///< files the run folder lacks ("what" strings)
   std::vector<std::string> warnings;       ///< other problems worth stating (e.g. a mesh that failed to read)
 
