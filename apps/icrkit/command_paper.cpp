@@ -82,6 +82,7 @@ nlohmann::json paper(const PaperOptions& o, CommandContext& context) {
                            {"config", nlohmann::json::parse(eval::experimentConfigJson(config))},
                            {"views", o.views},
                            {"reconstruction", "icrkit reconstruct defaults"},
+                           {"smoothing", o.smoothing},
                            {"preselection_rule", o.experiment.preselectionName()},
                            {"mesh_kept_points_only", o.mesh_kept_points_only},
                            {"align", o.experiment.align},

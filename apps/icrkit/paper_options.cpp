@@ -18,6 +18,12 @@ void addPaperOptions(CLI::App& command, PaperOptions& o) {
   command.add_option("--datasets", o.datasets, "Comma-separated dataset names (default: all nine)");
   command.add_option("--views", o.views, "Views per dataset (0: each dataset's own)")->capture_default_str();
   command.add_flag("--reuse", o.reuse, "Keep datasets and reconstructions already in DIR from an earlier run");
+  command
+      .add_option("--smoothing", o.smoothing,
+                  "Smoothing of the filtered meshes: feature (one-sided windows, 30 deg, the default of icrkit "
+                  "reconstruct) or paper (Algorithm 1's window, for Table I as published)")
+      ->check(CLI::IsMember({"feature", "paper"}))
+      ->capture_default_str();
   command.add_flag("--mesh-kept-points-only", o.mesh_kept_points_only,
                    "Reconstruct the filtered meshes without their excluded points (with --reuse: only for "
                    "datasets reconstructed in this run)");
@@ -54,6 +60,7 @@ eval::StudyMeshes datasetMeshes(const PaperOptions& o, const sim::DatasetSpec& s
     context.note(prefix + "reconstructing");
     reconstruction::ReconstructionParameters params;
     params.mesh_kept_points_only = o.mesh_kept_points_only;
+    if (o.smoothing == "paper") params.smoothing.max_normal_angle = M_PI;
     const std::string rule = o.experiment.preselectionName();
     if (rule != "file") params.smoothing.preselection.rule = ndt::parsePreselectionRule(rule, "--preselection");
     reconstruction::ReconstructionResult result = reconstruction::reconstructRawlog(

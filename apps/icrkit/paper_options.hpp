@@ -24,6 +24,7 @@ struct PaperOptions {
   int views = 0;         ///< 0: each dataset's own
   bool reuse = false;
   bool mesh_kept_points_only = false;
+  std::string smoothing = "feature";  ///< of the filtered meshes: feature (one-sided windows) or paper
   ExperimentOptions experiment = [] {
     ExperimentOptions e;
     e.preselection = "default";

@@ -91,7 +91,15 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
                   "3D-NDT smoothing window: metres or a multiple of a single scan's median point spacing")
       ->capture_default_str();
   command.add_option("--passes", options.passes, "3D-NDT smoothing passes")->capture_default_str();
-  addWindowNormalAngleOption(command, options.window_normal_angle);
+  auto* window_angle = addWindowNormalAngleOption(command, options.window_normal_angle);
+  command
+      .add_option("--smoothing", options.smoothing,
+                  "Smoothing of the filtered mesh: feature (one-sided windows of --window-normal-angle, 30 deg: "
+                  "no blending across creases and thin walls) or paper (Algorithm 1's window, every point of the "
+                  "radius, as Table I was published)")
+      ->check(CLI::IsMember({"feature", "paper"}))
+      ->capture_default_str();
+  options.window_angle_given = [window_angle] { return window_angle->count() > 0; };
   addPreselectionOption(command, options.preselection, "for the filtered mesh");
   command
       .add_option("--mesh-thinning", options.mesh_thinning,
@@ -145,7 +153,9 @@ reconstruction::ReconstructionParameters reconstructionParameters(const Reconstr
   params.fusion.resolution = options.voxel;
   params.smoothing.radius = parseLength("--smoothing-radius", options.smoothing_radius);
   params.smoothing.passes = options.passes;
-  params.smoothing.max_normal_angle = checkedWindowNormalAngle(options.window_normal_angle);
+  params.smoothing.max_normal_angle = checkedWindowNormalAngle(
+      options.smoothing == "paper" && !(options.window_angle_given && options.window_angle_given()) ? M_PI
+                                                                                                   : options.window_normal_angle);
   params.smoothing.preselection.rule = ndt::parsePreselectionRule(options.preselection, "--preselection");
   params.mesh_kept_points_only = options.mesh_kept_points_only;
   params.meshing.thinning_factor = options.mesh_thinning;

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cmath>
+#include <functional>
 #include <string>
 
 namespace icrkit::app {
@@ -38,7 +39,11 @@ struct ReconstructOptions {
   double voxel = 0.004;
   std::string smoothing_radius = "4x";
   int passes = 1;
-  double window_normal_angle = M_PI;
+  double window_normal_angle = reconstruction::kFeatureWindowNormalAngle;
+  /// "feature" (one-sided windows, the default) or "paper" (Algorithm 1's
+  /// window: every point of the radius); --window-normal-angle overrides.
+  std::string smoothing = "feature";
+  std::function<bool()> window_angle_given;  ///< set by addReconstructOptions
   std::string preselection = "default";
   bool mesh_kept_points_only = false;
   double mesh_thinning = reconstruction::ReconstructionParameters{}.meshing.thinning_factor;
