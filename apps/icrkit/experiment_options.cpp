@@ -227,17 +227,29 @@ std::string runPlannedStudy(const ExperimentOptions& options, const eval::Datase
   return eval::plannedGraspStudyJson(study);
 }
 
-std::vector<std::string> writePlannedStudies(const std::string& dir, const std::vector<std::string>& lines) {
+namespace {
+
+// DIR/STEM.jsonl (the lines) and DIR/STEM.md (`heading` and the table),
+// atomically; nothing without lines.
+std::vector<std::string> writeDatasetStudies(const std::string& dir, const std::string& stem,
+                                             const std::vector<std::string>& lines, const std::string& heading,
+                                             const std::string& table) {
   if (lines.empty()) return {};
-  const std::string jsonl = (std::filesystem::path(dir) / "planned.jsonl").string();
-  const std::string md = (std::filesystem::path(dir) / "planned.md").string();
+  const std::string jsonl = (std::filesystem::path(dir) / (stem + ".jsonl")).string();
+  const std::string md = (std::filesystem::path(dir) / (stem + ".md")).string();
   writeFileAtomically(jsonl, [&](std::ostream& out) {
     for (const std::string& l : lines) out << l << "\n";
   });
-  writeFileAtomically(md, [&](std::ostream& out) {
-    out << "# Planned grasps executed on the CAD mesh\n\n" << eval::plannedGraspStudiesMarkdown(lines);
-  });
+  writeFileAtomically(md, [&](std::ostream& out) { out << heading << "\n\n" << table; });
   return {jsonl, md};
+}
+
+}  // namespace
+
+std::vector<std::string> writePlannedStudies(const std::string& dir, const std::vector<std::string>& lines) {
+  if (lines.empty()) return {};
+  return writeDatasetStudies(dir, "planned", lines, "# Planned grasps executed on the CAD mesh",
+                             eval::plannedGraspStudiesMarkdown(lines));
 }
 
 std::string runSurfaceStudy(const eval::DatasetExperiment& experiment) {
@@ -247,18 +259,11 @@ std::string runSurfaceStudy(const eval::DatasetExperiment& experiment) {
 
 std::vector<std::string> writeSurfaceStudies(const std::string& dir, const std::vector<std::string>& lines) {
   if (lines.empty()) return {};
-  const std::string jsonl = (std::filesystem::path(dir) / "surface.jsonl").string();
-  const std::string md = (std::filesystem::path(dir) / "surface.md").string();
-  writeFileAtomically(jsonl, [&](std::ostream& out) {
-    for (const std::string& l : lines) out << l << "\n";
-  });
-  writeFileAtomically(md, [&](std::ostream& out) {
-    out << "# Surface accuracy against the CAD mesh\n\nPer vertex: distance to the CAD surface and angle between "
-           "the vertex normal and the CAD face normal there; near edges = within 4 mm of a CAD edge whose faces "
-           "differ by more than 30 deg (docs/evaluation.md).\n\n"
-        << eval::surfaceAccuracyMarkdown(lines);
-  });
-  return {jsonl, md};
+  return writeDatasetStudies(dir, "surface", lines,
+                             "# Surface accuracy against the CAD mesh\n\nPer vertex: distance to the CAD surface and "
+                             "angle between the vertex normal and the CAD face normal there; near edges = within 4 mm "
+                             "of a CAD edge whose faces differ by more than 30 deg (docs/evaluation.md).",
+                             eval::surfaceAccuracyMarkdown(lines));
 }
 
 TriangleMesh readMeshWithNormals(const std::string& path, bool compute, CommandContext& context) {

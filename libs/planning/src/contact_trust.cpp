@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <queue>
 #include <string>
 #include <utility>
@@ -21,6 +22,26 @@ namespace {
 void requireLength(const char* field, double value) {
   if (!(std::isfinite(value) && value >= 0.0))
     throw InputError(field, "", "expected a finite value >= 0, got " + std::to_string(value));
+}
+
+// Per vertex: 1 where the attribute `name` is below `fraction` of its median
+// over the surface vertices; all 0 without the attribute or the fraction.
+std::vector<std::uint8_t> belowFractionOfMedian(const TriangleMesh& mesh, const std::vector<std::uint8_t>& referenced,
+                                                const char* name, const std::optional<double>& fraction) {
+  const std::size_t n = mesh.vertexCount();
+  std::vector<std::uint8_t> below(n, 0);
+  const Attribute* attribute = fraction ? mesh.vertices.attributes.find(name) : nullptr;
+  if (!attribute) return below;
+  std::vector<double> values;
+  for (std::size_t v = 0; v < n; ++v)
+    if (referenced[v]) values.push_back(attribute->values[v]);
+  if (values.empty()) return below;
+  const auto mid = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  const double bound = *fraction * *mid;
+  for (std::size_t v = 0; v < n; ++v)
+    if (referenced[v] && !(attribute->values[v] >= bound)) below[v] = 1;
+  return below;
 }
 
 // Distance along mesh edges from the nearest boundary vertex, computed only
@@ -86,40 +107,14 @@ ContactTrust assessContactTrust(const TriangleMesh& mesh, const std::vector<std:
   // vertices under the fingertip centred on it.
   const auto& positions = mesh.vertices.positions;
   const auto& normals = mesh.vertices.normals;
-  // Thinly supported vertices: cardinality below the fraction of the
-  // median over the surface (a scale-free rule: the count depends on the
-  // sensor, the views and the NDT window).
-  std::vector<std::uint8_t> weak(n, 0);
-  bool any_weak = false;
-  if (const Attribute* support =
-          params.min_relative_support ? mesh.vertices.attributes.find("cardinality") : nullptr) {
-    std::vector<double> values;
-    for (std::size_t v = 0; v < n; ++v)
-      if (referenced[v]) values.push_back(support->values[v]);
-    if (!values.empty()) {
-      const auto mid = values.begin() + static_cast<long>(values.size() / 2);
-      std::nth_element(values.begin(), mid, values.end());
-      const double bound = *params.min_relative_support * *mid;
-      for (std::size_t v = 0; v < n; ++v)
-        if (referenced[v] && !(support->values[v] >= bound)) weak[v] = any_weak = 1;
-    }
-  }
-
-  // Rounded features: flatness below the fraction of its median.
-  std::vector<std::uint8_t> rounded(n, 0);
-  if (const Attribute* flatness =
-          params.min_relative_flatness ? mesh.vertices.attributes.find("flatness") : nullptr) {
-    std::vector<double> values;
-    for (std::size_t v = 0; v < n; ++v)
-      if (referenced[v]) values.push_back(flatness->values[v]);
-    if (!values.empty()) {
-      const auto mid = values.begin() + static_cast<long>(values.size() / 2);
-      std::nth_element(values.begin(), mid, values.end());
-      const double bound = *params.min_relative_flatness * *mid;
-      for (std::size_t v = 0; v < n; ++v)
-        if (referenced[v] && !(flatness->values[v] >= bound)) rounded[v] = 1;
-    }
-  }
+  // Thinly supported vertices (cardinality) and rounded features (flatness):
+  // below a fraction of the attribute's median over the surface, a
+  // scale-free rule (the values depend on the sensor, the views and the NDT
+  // window).
+  const std::vector<std::uint8_t> weak = belowFractionOfMedian(mesh, referenced, "cardinality", params.min_relative_support);
+  const bool any_weak = std::find(weak.begin(), weak.end(), 1) != weak.end();
+  const std::vector<std::uint8_t> rounded =
+      belowFractionOfMedian(mesh, referenced, "flatness", params.min_relative_flatness);
 
   std::vector<std::uint8_t> spread_ok(n, 1), support_ok(n, 1);
   for (std::size_t v = 0; v < n; ++v) support_ok[v] = weak[v] ? 0 : 1;
