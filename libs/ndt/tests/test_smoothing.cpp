@@ -642,6 +642,54 @@ TEST(Smoothing, FeatureWindowsKeepACubesEdgesSharp) {
   EXPECT_GT(paper_worst_angle, 10.0 * M_PI / 180.0);  // the paper's window rounds the edge
 }
 
+TEST(Smoothing, FeatureWindowsKeepAThinPlatesTwoSidesApart) {
+  // A 2 mm plate (40 x 40 mm) scanned from both sides: each side sampled
+  // every 0.5 mm with 0.2 mm of noise, normals facing out. A 4 mm window
+  // holds both sides; the paper's window fits one plane through both and
+  // projects them onto the plate's middle. Windows of 30 deg take only the
+  // points whose normals face the same way, so each side stays on its own
+  // plane (within 0.2 mm) and the wall keeps its thickness.
+  const double extent = 0.04, thickness = 0.002, step = 0.0005, noise = 0.0002;
+  std::mt19937 random(9);
+  std::normal_distribution<double> gauss(0.0, noise);
+  PointCloud plate;
+  for (int side = 0; side < 2; ++side)
+    for (double a = step / 2; a < extent; a += step)
+      for (double b = step / 2; b < extent; b += step) {
+        const double z = side ? thickness : 0.0;
+        plate.positions.emplace_back(a, b, z + gauss(random));
+        plate.normals.emplace_back(0.0, 0.0, side ? 1.0 : -1.0);
+      }
+  SmoothingParameters params;
+  params.radius = Length::metres(0.004);
+  params.preselection.rule = PreselectionRule::None;
+  PointCloud paper = plate, feature = plate;
+  smoothPointCloud(paper, params);
+  params.max_normal_angle = M_PI / 6;
+  smoothPointCloud(feature, params);
+  // Away from the plate's border (8 mm in), where a window is whole.
+  double feature_worst = 0.0, paper_gap = 0.0, feature_gap = 0.0;
+  double sums[2][2] = {{0, 0}, {0, 0}};  // [paper|feature][side]
+  std::size_t counts[2] = {0, 0};
+  for (std::size_t i = 0; i < plate.size(); ++i) {
+    const Eigen::Vector3d& p = plate.positions[i];
+    if (std::min({p.x(), p.y(), extent - p.x(), extent - p.y()}) < 0.008) continue;
+    const int side = plate.normals[i].z() > 0;
+    const double z = side ? thickness : 0.0;
+    feature_worst = std::max(feature_worst, std::abs(feature.positions[i].z() - z));
+    sums[0][side] += paper.positions[i].z();
+    sums[1][side] += feature.positions[i].z();
+    ++counts[side];
+  }
+  ASSERT_GT(counts[0], 1000u);
+  ASSERT_GT(counts[1], 1000u);
+  paper_gap = sums[0][1] / counts[1] - sums[0][0] / counts[0];
+  feature_gap = sums[1][1] / counts[1] - sums[1][0] / counts[0];
+  EXPECT_LT(feature_worst, 0.0002);
+  EXPECT_NEAR(feature_gap, thickness, 0.0001);
+  EXPECT_LT(paper_gap, 0.5 * thickness);  // the paper's window pulls the two sides together
+}
+
 }  // namespace
 }  // namespace icrkit::ndt
 

@@ -396,6 +396,76 @@ double robustSigma(std::vector<double> magnitudes) {
 
 }  // namespace
 
+namespace {
+
+// Cubes (metres) a view's points are reduced to when it is part of another
+// view's model: a 1 cm NDT cell then gets ~16 points per view that sees it.
+constexpr double kModelAlignmentVoxel = 0.0025;
+
+// The model alignment (SequenceRegistrationParameters::
+// model_alignment_resolutions): every view against the union of the others,
+// all from the same poses, one level at a time.
+// `reported` are the robot's poses (the limits), `reduced` and `normals`
+// each view's points and normals (its observability).
+void alignToOthers(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
+                   const std::vector<std::vector<Eigen::Vector3d>>& reduced,
+                   const std::vector<std::vector<Eigen::Vector3d>>& normals,
+                   const std::vector<std::vector<Eigen::Vector3d>>& sources,
+                   const std::vector<std::vector<Eigen::Vector3d>>& model_points, std::vector<Eigen::Isometry3d>& poses,
+                   SequenceRegistrationResult& result) {
+  const std::vector<Eigen::Isometry3d> start = poses;
+  const std::size_t n = poses.size();
+  for (double resolution : params.model_alignment_resolutions) {
+    ndt::NdtParameters level = params.ndt;
+    level.resolutions = {resolution};
+    level.source_voxel_size = 0.0;
+    std::vector<Eigen::Isometry3d> next = poses;
+    std::vector<std::uint8_t> kept(n, 0);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      if (sources[i].empty()) return;
+      PointCloud others;
+      for (std::size_t j = 0; j < n; ++j)
+        if (j != i)
+          for (const Eigen::Vector3d& p : model_points[j]) others.positions.push_back(poses[j] * p);
+      try {
+        const ndt::NdtTarget target(others, level);
+        ndt::NdtResult r = ndt::registerNdt(positionsOnly(sources[i]), target, poses[i], level);
+        if (params.degeneracy_ratio > 0)
+          remapDegenerate(r, poses[i], scanObservability(reduced[i], normals[i], poses[i], params.degeneracy_ratio));
+        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+        for (const Eigen::Vector3d& p : sources[i]) centroid += p;
+        centroid /= double(sources[i].size());
+        const bool near = (r.pose * centroid - reported[i] * centroid).norm() <= params.model_alignment_max_translation &&
+                          rotationAngle(r.pose * reported[i].inverse()) <= params.model_alignment_max_rotation;
+
+        if (near && r.normalized_score >= params.min_normalized_score && finitePose(r.pose)) {
+          next[i] = r.pose;
+          kept[i] = 1;
+        }
+      } catch (const InputError&) {
+        // Too few points for any Gaussian: the view stays where it is.
+      }
+    });
+    poses = std::move(next);
+    result.model_alignment_accepted.push_back(static_cast<std::size_t>(std::count(kept.begin(), kept.end(), 1)));
+  }
+  std::vector<double> moves;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (sources[i].empty()) continue;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : sources[i]) centroid += p;
+    centroid /= double(sources[i].size());
+    moves.push_back((poses[i] * centroid - start[i] * centroid).norm());
+  }
+  if (!moves.empty()) {
+    result.model_alignment_max_move_m = *std::max_element(moves.begin(), moves.end());
+    std::nth_element(moves.begin(), moves.begin() + static_cast<std::ptrdiff_t>(moves.size() / 2), moves.end());
+    result.model_alignment_median_move_m = moves[moves.size() / 2];
+  }
+}
+
+}  // namespace
+
 SequenceRegistrationResult SequenceRegistration::finish() {
   Impl& s = *impl_;
   if (s.finished) throw std::logic_error("SequenceRegistration::finish called twice");
@@ -413,7 +483,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   // and a sparser copy of its points (source side).
   std::vector<std::optional<ndt::NdtTarget>> ndt_targets(n);
   std::vector<std::optional<IcpTarget>> icp_targets(n);
-  std::vector<std::vector<Eigen::Vector3d>> icp_sources(n), ndt_sources(n);
+  std::vector<std::vector<Eigen::Vector3d>> icp_sources(n), ndt_sources(n), model_points(n);
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     try {
       ndt_targets[i].emplace(positionsOnly(s.reduced[i]), pair_ndt);
@@ -421,6 +491,14 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       // Too few points for any Gaussian: the scan's pairs fail.
     }
     if (s.normals[i].size() != s.reduced[i].size()) s.normals[i] = s.surfaceNormals(s.reduced[i]);
+    VoxelModel coarse(params.pair_ndt_source_voxel_size);
+    coarse.add(s.reduced[i], Eigen::Isometry3d::Identity());
+    ndt_sources[i] = coarse.centroids().positions;
+    if (!params.model_alignment_resolutions.empty()) {
+      VoxelModel cubes(kModelAlignmentVoxel);
+      cubes.add(s.reduced[i], Eigen::Isometry3d::Identity());
+      model_points[i] = cubes.centroids().positions;
+    }
     if (!params.icp_refinement || s.reduced[i].size() < 3) return;
     std::optional<std::vector<Eigen::Vector3d>> normals = s.normals[i];
     if (normals->size() != s.reduced[i].size()) normals = tangentNormals(s.reduced[i]);
@@ -443,13 +521,51 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       for (std::size_t k = 0; k < cap; ++k) kept.push_back(icp_sources[i][static_cast<std::size_t>(k * stride)]);
       icp_sources[i] = std::move(kept);
     }
-    VoxelModel coarse(params.pair_ndt_source_voxel_size);
-    coarse.add(s.reduced[i], Eigen::Isometry3d::Identity());
-    ndt_sources[i] = coarse.centroids().positions;
   });
 
   std::vector<Eigen::Isometry3d> poses;
   for (const ScanRegistrationRecord& r : s.records) poses.push_back(r.model_pose);
+  double alignment_sigma_t = 0.0, alignment_sigma_r = 0.0;  // per view, robust, from the model alignment
+  if (n >= 3 && !params.model_alignment_resolutions.empty()) {
+    std::vector<Eigen::Isometry3d> reported;
+    for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
+    alignToOthers(params, reported, s.reduced, s.normals, ndt_sources, model_points, poses, result);
+    // Without the robot's priors the first scan holds the frame (the pose
+    // graph fixes it): the views moved together, so move them back as one.
+    const bool gauge_from_priors =
+        params.prior_sigma_translation > 0 ||
+        std::any_of(s.priors.begin(), s.priors.end(), [](const std::optional<PosePrior>& p) { return p.has_value(); });
+    if (!gauge_from_priors) {
+      const Eigen::Isometry3d back = s.records.front().model_pose * poses.front().inverse();
+      for (Eigen::Isometry3d& pose : poses) pose = back * pose;
+    }
+    // How far the robot placed each view from where the others put it: the
+    // robot's per-view error as its prior edges see it (sensor frame). On
+    // an object whose consecutive pairs are all degenerate (a cup, a
+    // bottle) the pairs cannot measure it, and the stated sigmas of an arm
+    // would pin a mobile robot's views where it reported them.
+    // Measured where it matters and where the alignment is sure of it: the
+    // move of the view's points (a spin about a round object's axis, which
+    // the alignment leaves uncertain, hardly moves them); the rotation sigma
+    // is the one that moves them as far at their distance from the sensor.
+    std::vector<double> moves;
+    double distance = 0.0;
+    std::size_t counted = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ndt_sources[i].empty()) continue;
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (const Eigen::Vector3d& p : ndt_sources[i]) centroid += p;
+      centroid /= double(ndt_sources[i].size());
+      const Eigen::Vector3d move = poses[i] * centroid - reported[i] * centroid;
+      for (int c = 0; c < 3; ++c) moves.push_back(std::abs(move(c)));
+      distance += centroid.norm();
+      ++counted;
+    }
+    if (moves.size() >= 9 && distance > 0) {
+      alignment_sigma_t = robustSigma(moves);
+      alignment_sigma_r = alignment_sigma_t / (distance / double(counted));
+    }
+  }
   const int rounds = std::max(1, params.refinement_rounds);
   for (int round = 0; round < rounds; ++round) {
     const auto chosen = choosePairs(s.reduced, poses, params);
@@ -543,9 +659,14 @@ SequenceRegistrationResult SequenceRegistration::finish() {
           rotation.push_back(std::abs(e(3 + c)));
         }
       }
-      if (translation.size() >= 9) {
-        result.measured_odometry_sigma_translation_m = robustSigma(translation);
-        result.measured_odometry_sigma_rotation_rad = robustSigma(rotation);
+      if (translation.size() >= 9 || alignment_sigma_t > 0) {
+        // The consecutive pairs when they measure it; else the model
+        // alignment (independent per-view errors: a relative motion holds two).
+        const bool from_pairs = translation.size() >= 9;
+        result.measured_odometry_sigma_translation_m =
+            from_pairs ? robustSigma(translation) : std::sqrt(2.0) * alignment_sigma_t;
+        result.measured_odometry_sigma_rotation_rad =
+            from_pairs ? robustSigma(rotation) : std::sqrt(2.0) * alignment_sigma_r;
         if (params.estimate_robot_precision) {
           if (odometry_sigma_t > 0 && odometry_sigma_r > 0) {
             odometry_sigma_t = std::max(odometry_sigma_t, result.measured_odometry_sigma_translation_m);

@@ -145,6 +145,23 @@ struct SequenceRegistrationParameters {
   /// A pair whose ICP matches fewer than this fraction of the source's
   /// points (weighted) is rejected: the views hardly overlap.
   double min_icp_inlier_fraction = 0.15;
+  /// Views against the model of the others, before the pairs: at each of
+  /// these NDT cell sizes (metres, coarse to fine) every view is registered
+  /// at once (each from the current poses, so the result does not depend on
+  /// the order or the thread count) against the points of all the other
+  /// views, and all move together. With per-view errors independent (a
+  /// mobile robot: 5-8 mm and 1-2 deg per view, tens of millimetres at the
+  /// object) the others' union is blurred but centred where the object is,
+  /// and it covers every side a view shows, which a single partner does
+  /// not; a few levels bring every view within the pairs' reach. Empty: the
+  /// pairs start from the reported poses.
+  std::vector<double> model_alignment_resolutions{0.04, 0.02, 0.01};
+  /// A view's model alignment is kept when its points moved at most this
+  /// far (metres, at their centroid) and turned at most this much
+  /// (radians) from the reported pose, and its normalised NDT score is at
+  /// least `min_normalized_score`.
+  double model_alignment_max_translation = 0.08;
+  double model_alignment_max_rotation = 0.25;
   /// Multiway rounds: after the pose graph is solved the pairs are chosen
   /// again at the new poses (views that now overlap become partners) and
   /// registered again from the graph's relative poses (ICP only), and the
@@ -249,6 +266,10 @@ struct SequenceRegistrationResult {
   /// The robot's relative-motion error as measured by the consecutive
   /// pairs (robust sigma per axis; 0 when too few pairs).
   double measured_odometry_sigma_translation_m = 0.0, measured_odometry_sigma_rotation_rad = 0.0;
+  /// Views kept / rejected by the model alignment, per level.
+  std::vector<std::size_t> model_alignment_accepted;
+  /// Median and largest move of the views' points by the model alignment (metres).
+  double model_alignment_median_move_m = 0.0, model_alignment_max_move_m = 0.0;
   int refinement_rounds = 0;  ///< multiway rounds run
   /// The pairs' variance as estimated from their residuals, relative to
   /// `registration_sigma_*` (>= 1: less precise than stated).

@@ -1,0 +1,119 @@
+// icrkit's registration stage alone on prepared views: the icrkit side of
+// bench/registration_sweep.py, on exactly the points Open3D gets.
+//
+//   bench_register_views VIEWS_DIR -o POSES.txt [--no-model-alignment]
+//
+// VIEWS_DIR is what `icrkit reconstruct --write-registration-input` writes
+// (or the sweep prepares from other recordings): view_NNN.ply, each view's
+// object points in its sensor frame, and start.txt, the starting poses
+// (TUM, sensor -> object). The registration runs with the parameters
+// `icrkit reconstruct` uses. Writes the registered poses (TUM, the starting
+// stamps) and prints one JSON line: views, time_s (registration only, file
+// reading excluded), pairs accepted and rejected.
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/io/geometry_io.hpp>
+#include <icrkit/core/pose.hpp>
+#include <icrkit/reconstruction/reconstruction_pipeline.hpp>
+#include <icrkit/reconstruction/registration/scan_sequence_registration.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <utility>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace icrkit;
+
+int main(int argc, char** argv) {
+  if (argc < 4 || std::string(argv[2]) != "-o") {
+    std::fprintf(stderr, "usage: %s VIEWS_DIR -o POSES.txt [--no-model-alignment] [--set NAME=VALUE]...\n", argv[0]);
+    return 2;
+  }
+  try {
+    const fs::path dir(argv[1]);
+    const std::vector<StampedPose> starts = readTumTrajectory((dir / "start.txt").string());
+    std::vector<PointCloud> views;
+    for (std::size_t i = 0;; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "view_%03zu.ply", i);
+      if (!fs::exists(dir / name)) break;
+      views.push_back(io::readPointCloud((dir / name).string()));
+    }
+    if (views.size() != starts.size())
+      throw InputError(dir.string(), "", std::to_string(views.size()) + " views but " + std::to_string(starts.size()) +
+                                             " starting poses");
+    std::vector<Eigen::Isometry3d> initial;
+    for (const StampedPose& s : starts) initial.push_back(s.pose);
+    reconstruction::ReconstructionParameters defaults;
+    // Variants for the sweep: a few of the registration's parameters.
+    auto& r = defaults.registration;
+    for (int a = 4; a < argc; ++a) {
+      const std::string arg = argv[a];
+      if (arg == "--no-model-alignment") {
+        r.model_alignment_resolutions.clear();
+        continue;
+      }
+      const auto eq = arg.find('=');
+      if (arg.rfind("--set", 0) != 0 || a + 1 >= argc) throw InputError(arg, "", "unknown argument");
+      const std::string kv = argv[++a];
+      const std::string name = kv.substr(0, kv.find('='));
+      const std::string text = kv.substr(kv.find('=') + 1);
+      (void)eq;
+      if (name == "model_levels") {
+        r.model_alignment_resolutions.clear();
+        for (std::size_t at = 0; at < text.size();) {
+          const std::size_t comma = std::min(text.find(',', at), text.size());
+          r.model_alignment_resolutions.push_back(std::stod(text.substr(at, comma - at)));
+          at = comma + 1;
+        }
+        continue;
+      }
+      const double value = std::stod(text);
+      if (name == "prior_sigma") r.prior_sigma_translation = r.prior_sigma_rotation = value;
+      else if (name == "odometry_sigma") r.odometry_sigma_translation = r.odometry_sigma_rotation = value;
+      else if (name == "max_partners") r.max_partners = int(value);
+      else if (name == "refinement_rounds") r.refinement_rounds = int(value);
+      else if (name == "min_pair_overlap") r.min_pair_overlap = value;
+      else if (name == "estimate_robot_precision") r.estimate_robot_precision = value != 0;
+      else if (name == "degeneracy_ratio") r.degeneracy_ratio = value;
+      else if (name == "hessian_information") r.hessian_information = value != 0;
+      else if (name == "variance_rounds") r.variance_rounds = int(value);
+      else if (name == "min_normalized_score") r.min_normalized_score = value;
+      else if (name == "model_max_translation") r.model_alignment_max_translation = value;
+      else throw InputError(name, "", "not a parameter this tool sets");
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const reconstruction::SequenceRegistrationResult result =
+        reconstruction::registerScanSequence(views, initial, defaults.registration);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::vector<StampedPose> out;
+    for (std::size_t i = 0; i < starts.size(); ++i) out.push_back({starts[i].timestamp, result.poses[i]});
+    writeTumTrajectory(argv[3], out);
+    std::size_t accepted = 0;
+    for (const auto& p : result.pairs) accepted += p.accepted;
+    std::cout << nlohmann::json{{"views", views.size()},
+                                {"time_s", seconds},
+                                {"pairs_accepted", accepted},
+                                {"pairs_rejected", result.pairs.size() - accepted},
+                                {"model_alignment_accepted", result.model_alignment_accepted},
+                                {"model_alignment_median_move_m", result.model_alignment_median_move_m},
+                                {"model_alignment_max_move_m", result.model_alignment_max_move_m},
+                                {"measured_odometry_sigma_mm", result.measured_odometry_sigma_translation_m * 1e3},
+                                {"measured_odometry_sigma_deg", result.measured_odometry_sigma_rotation_rad * 180 / M_PI},
+                                {"prior_sigma_mm", result.prior_sigma_translation_m * 1e3},
+                                {"odometry_sigma_mm", result.odometry_sigma_translation_m * 1e3},
+                                {"pair_variance_factor", result.pair_variance_factor}}
+                     .dump()
+              << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_register_views: %s\n", e.what());
+    return 2;
+  }
+}
