@@ -84,7 +84,12 @@ void reconstructSimulatedCup(sim::SensorType sensor, double range) {
               std::size_t(std::count_if(r.registration.pairs.begin(), r.registration.pairs.end(),
                                         [](const PairRegistrationRecord& p) { return p.accepted; })),
               r.registration.pairs.size());
-  EXPECT_LE(registered.aligned.median_sensor_translation_m, 1e-3);
+  // Registration is judged by the surface it makes (below, and issue 35's
+  // decision); the poses only have to stay near the truth. With the robot's
+  // precision measured by the model alignment the SR4000 cup's camera
+  // positions are 1.5 mm off (1.0 before) while its fused cloud came closer
+  // to the CAD mesh (1.00 instead of 1.05 mm; 0.91 at the true poses).
+  EXPECT_LE(registered.aligned.median_sensor_translation_m, 2e-3);
   EXPECT_LE(registered.aligned.median_rotation_rad, 0.3 * kDeg);
   EXPECT_TRUE(r.registration.graph.converged);
 
@@ -117,6 +122,7 @@ void reconstructSimulatedCup(sim::SensorType sensor, double range) {
               r.cloud.positions.size(), d.mean * 1e3, d.median * 1e3, d.max * 1e3, floor.mean * 1e3, range,
               sigma * 1e3, sigma_measured * 1e3);
   EXPECT_LE(d.mean, 1.5 * floor.mean);
+  EXPECT_LE(d.mean, 1.2 * floor.mean) << "the registration's surface (1.10x the true poses' on the SR4000 cup)";
   // The acceptance reading: within 1.5x the model's noise for these very
   // measurements (docs/reconstruction.md). The stricter best case, normal
   // incidence at the working range, holds for the Kinect only (below).
@@ -146,7 +152,7 @@ void reconstructSimulatedCup(sim::SensorType sensor, double range) {
     // camera positions move a little, while the scans' points at the object
     // (what the fused cloud is made of) come closer to the truth than the
     // reported poses put them.
-    EXPECT_LE(rc_error.aligned.median_sensor_translation_m, 1.1e-3);
+    EXPECT_LE(rc_error.aligned.median_sensor_translation_m, 2e-3);
     EXPECT_LE(rc_error.aligned.median_rotation_rad, 0.3 * kDeg);
     const TrajectoryError rc_reported = trajectoryError(rc.reported_poses, truth, rc.crop_box.center());
     EXPECT_LT(rc_error.aligned.median_object_translation_m, rc_reported.aligned.median_object_translation_m);
