@@ -423,10 +423,13 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
     std::vector<std::uint8_t> kept(n, 0);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       if (sources[i].empty()) return;
+      // A coarse cell needs no 2.5 mm detail: the views' 5 mm cubes give it
+      // as many points per cell as the finer ones give a 1 cm cell.
+      const auto& points = resolution >= 8.0 * params.pair_ndt_source_voxel_size ? sources : model_points;
       PointCloud others;
       for (std::size_t j = 0; j < n; ++j)
         if (j != i)
-          for (const Eigen::Vector3d& p : model_points[j]) others.positions.push_back(poses[j] * p);
+          for (const Eigen::Vector3d& p : points[j]) others.positions.push_back(poses[j] * p);
       try {
         const ndt::NdtTarget target(others, level);
         ndt::NdtResult r = ndt::registerNdt(positionsOnly(sources[i]), target, poses[i], level);
