@@ -34,6 +34,11 @@ assert d == json.load(open('$work/rec/reconstruction.json')), 'stdout and recons
 assert d['scans'] == 8 and len(d['per_scan']) == 8, d['scans']
 assert d['crop_box_automatic'] is True
 assert all(s['object_points'] > 1000 and s['support_plane_found'] for s in d['per_scan']), d['per_scan'][0]
+# The filters' totals (mixed pixels: jump_edges) are the per-scan counts summed.
+for k, total in d['removed'].items():
+    assert total == sum(s['removed'][k] for s in d['per_scan']), (k, total)
+assert d['removed']['jump_edges'] > 0, d['removed']
+assert d['registration']['model_alignment']['views_kept'][-1] >= 6, d['registration']['model_alignment']
 e = d['registration_error']['registered']['aligned']
 assert e['median_sensor_translation_mm'] <= 1.0 and e['median_rotation_deg'] <= 0.3, e
 assert d['registration']['pose_graph']['converged'], d['registration']

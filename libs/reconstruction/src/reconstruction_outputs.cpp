@@ -218,6 +218,16 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
   }
   Json scans = Json::array();
   for (std::size_t i = 0; i < n; ++i) scans.push_back(scanJson(result, i));
+  // What the scan filters removed, over all scans; "jump_edges" are the
+  // mixed (flying) pixels between a foreground edge and the background.
+  Json removed = {{"confidence", 0}, {"jump_edges", 0}, {"range", 0}, {"crop", 0}, {"support_plane", 0}};
+  for (const ScanFilterRecord& f : result.filters) {
+    removed["confidence"] = removed["confidence"].get<std::size_t>() + f.removed_confidence;
+    removed["jump_edges"] = removed["jump_edges"].get<std::size_t>() + f.removed_jump_edges;
+    removed["range"] = removed["range"].get<std::size_t>() + f.removed_range;
+    removed["crop"] = removed["crop"].get<std::size_t>() + f.removed_crop;
+    removed["support_plane"] = removed["support_plane"].get<std::size_t>() + f.removed_plane;
+  }
   const auto& box = result.crop_box;
   Json record{
       {"input", input.input},
@@ -237,6 +247,7 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
                            {"origin_m", {params.board->origin.x(), params.board->origin.y(), params.board->origin.z()}},
                            {"poses_from_board", result.poses_from_board}}
                     : Json(nullptr)},
+      {"removed", removed},
       {"registration", registrationJson(result, params)},
       {"fusion",
        {{"points_in", result.fusion.points_in},
