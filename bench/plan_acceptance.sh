@@ -10,7 +10,7 @@
 # Then the real PrimeSense bunny recording (when ../shared/data is there),
 # reconstructed, aligned to bun_zipper.ply by evaluate's ICP; the executor
 # gets that alignment (--transform).
-#   bench/plan_acceptance.sh BUILD_DIR [WORK_DIR [SEED]]
+#   [PLAN_DATASETS="paper_cup:kinect ..."] bench/plan_acceptance.sh BUILD_DIR [WORK_DIR [SEED]]
 set -euo pipefail
 build="${1:?usage: $0 BUILD_DIR [WORK_DIR [SEED]]}"
 work="${2:-$(mktemp -d)}"
@@ -45,8 +45,12 @@ median_half() {  # half the median epsilon of a grasps.jsonl
 import json, statistics, sys
 print(0.5 * statistics.median(json.loads(l)['epsilon'] for l in open(sys.argv[1])))" "$1"
 }
-for spec in cup:sr4000 wooden_toy_1:sr4000 wooden_toy_2:sr4000 cup:kinect wooden_toy_1:kinect wooden_toy_2:kinect \
-  bottle:kinect paper_cup:kinect coffee_pot:kinect; do
+all="cup:sr4000 wooden_toy_1:sr4000 wooden_toy_2:sr4000 cup:kinect wooden_toy_1:kinect wooden_toy_2:kinect
+  bottle:kinect paper_cup:kinect coffee_pot:kinect real"
+# PLAN_DATASETS: a subset, e.g. "paper_cup:kinect bottle:kinect" ("real": the PrimeSense bunny).
+datasets="${PLAN_DATASETS:-$all}"
+for spec in $datasets; do
+  [ "$spec" = real ] && continue
   object=${spec%%:*}
   sensor=${spec##*:}
   n=${object}_${sensor}
@@ -71,7 +75,7 @@ done
 # bunny in its own; evaluate aligns them (ICP) and the executor reuses that.
 rawlog="$data/primesense-bunny/scans.rawlog"
 cad="$data/stanford-bunny/bun_zipper.ply"
-if [ -f "$rawlog" ] && [ -f "$cad" ]; then
+if [ -f "$rawlog" ] && [ -f "$cad" ] && [[ " $datasets " == *" real "* ]]; then
   n=primesense_bunny
   [ -f "$n.rec/filtered.ply" ] || "$icrkit" reconstruct "$rawlog" -o "$n.rec" -q --json >"$n.rec.json"
   [ -f "$n.cad_grasps.jsonl" ] ||

@@ -31,8 +31,21 @@ summary = json.load(open('$work/summary.json'))
 assert summary['grasps'][0]['rank'] == 1 and summary['output'].endswith('plan.json')
 " || fail "plan.json or the summary is not as specified"
 
+# Patch fingers: plan.json says so.
+"$ICRKIT" plan "$work/ico.ply" -o "$work/patch.json" --top 2 --candidates 200 --patch-radius 0.004 --renders 0 -q \
+  2>"$work/err" || fail "plan --patch-radius failed: $(cat "$work/err")"
+py "
+import json
+plan = json.load(open('$work/patch.json'))
+assert plan['patch'] == {'radius_m': 0.004, 'filter_border': True}, plan['patch']
+assert len(plan['grasps']) == 2
+assert json.load(open('$work/plan.json'))['patch'] is None
+" || fail "plan.json of a patch plan"
+
 # Bad input: one line, exit 2, nothing written.
 rm -f "$work"/bad.*
+expect_input_error "--patch-radius" "$ICRKIT" plan "$work/ico.ply" -o "$work/bad.json" --patch-all-points
+expect_input_error "--patch-radius" "$ICRKIT" plan "$work/ico.ply" -o "$work/bad.json" --patch-radius 0.004 --conservative
 expect_input_error "ico.obj.*--compute-normals" "$ICRKIT" plan "$work/ico.obj" -o "$work/bad.json"
 expect_input_error "--top" "$ICRKIT" plan "$work/ico.ply" -o "$work/bad.json" --top 0
 expect_input_error "no candidate meets the task" "$ICRKIT" plan "$work/ico.ply" -o "$work/bad.json" --tws-radius 5 --candidates 50

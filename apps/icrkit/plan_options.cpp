@@ -69,6 +69,11 @@ void addPlanOptions(CLI::App& command, PlanOptions& options) {
   command.add_option("--min-region-area", options.min_region_area,
                      "Drop candidates with a region smaller than this (m²; default: drop regions without a whole "
                      "triangle)");
+  command.add_option("--patch-radius", options.patch_radius,
+                     "Fingers as patches of this radius (metres) around the aim, the reference ICR library's "
+                     "multi-point contacts: the best 3 x top candidates get patch regions (not with --conservative)");
+  command.add_flag("--patch-all-points", options.patch_all_points,
+                   "Keep every point of a patch (default: its centre and border points, as the reference library)");
   command.add_option("--seed", options.seed, "Seed of the candidate draws")->capture_default_str();
   command.add_option("--renders", options.renders, "Grasps drawn in the PNG next to the plan (0: no PNG)")
       ->check(CLI::Range(0, 20))
@@ -105,6 +110,14 @@ planning::PlanningParameters planningParameters(const PlanOptions& options) {
   p.trust.max_normal_sigma_rad = options.max_normal_sigma;
   p.trust.max_spread_fraction = options.max_spread_fraction;
   p.min_region_area_m2 = options.min_region_area;
+  if (options.patch_radius) {
+    icr::PatchParameters patch;
+    patch.radius_m = *options.patch_radius;
+    patch.filter_border = !options.patch_all_points;
+    p.patch = patch;
+  } else if (options.patch_all_points) {
+    throw InputError("--patch-all-points", "", "only with --patch-radius");
+  }
   if (options.min_support > 0.0) p.trust.min_relative_support = options.min_support;
   else p.trust.min_relative_support.reset();
   if (options.min_flatness > 0.0) p.trust.min_relative_flatness = options.min_flatness;
@@ -118,6 +131,8 @@ void mapPlanFields(CommandContext& context) {
                      {"PlanningParameters::candidates", "--candidates"},
                      {"PlanningParameters::hulls", "--hulls"},
                      {"PlanningParameters::task_margin", "--task-margin"},
+                     {"PlanningParameters::patch", "--patch-radius"},
+                     {"PatchParameters::radius_m", "--patch-radius"},
                      {"IcrParameters::alpha", "--alpha"},
                      {"IcrParameters::tws_radius", "--tws-radius"},
                      {"PlacementParameters::placement_error_m", "--placement-error"},

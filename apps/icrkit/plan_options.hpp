@@ -35,6 +35,8 @@ struct PlanOptions {
   double max_spread_fraction = 0.1;
   double min_flatness = 0.75;
   std::optional<double> min_region_area;
+  std::optional<double> patch_radius;
+  bool patch_all_points = false;
   std::uint64_t seed = 1;
   int renders = 3;
   std::string output;

@@ -87,6 +87,7 @@ def plan(
     torque_reference: str = ...,
     excluded: Optional[npt.ArrayLike] = ...,
     mesh_path: str = ...,
+    patch_radius: Optional[float] = ...,
 ) -> Dict[str, Any]: ...
 def sample_grasps(
     mesh: TriangleMesh,

@@ -249,8 +249,12 @@ void bindAlgorithms(py::module_& m) {
       [](const TriangleMesh& mesh, std::vector<std::size_t> fingers, std::size_t top, std::size_t candidates,
          std::optional<double> tws_radius, double alpha, const std::string& model, double mu, int edges, double mu_t,
          double placement_error, double task_margin, std::uint64_t seed, const std::string& torque_reference,
-         const py::handle& excluded, const std::string& mesh_path) {
+         const py::handle& excluded, const std::string& mesh_path, std::optional<double> patch_radius) {
         planning::PlanningParameters params;
+        if (patch_radius) {
+          params.patch = icr::PatchParameters{};
+          params.patch->radius_m = *patch_radius;
+        }
         params.finger_counts = std::move(fingers);
         params.top = top;
         params.candidates = candidates;
@@ -275,9 +279,10 @@ void bindAlgorithms(py::module_& m) {
       py::arg("model") = "frictional", py::arg("mu") = 0.8, py::arg("edges") = 8, py::arg("mu_t") = 0.5,
       py::arg("placement_error") = 0.003, py::arg("task_margin") = 0.25, py::arg("seed") = 1,
       py::arg("torque_reference") = "centroid", py::arg("excluded") = py::none(), py::arg("mesh_path") = "",
+      py::arg("patch_radius") = py::none(),
       "Grasps a robot can execute on `mesh` (`icrkit plan`, docs/planning.md): returns the plan as the dict "
       "plan.json holds (grasps best first, each with its regions and recommended contacts); `mesh_path` is "
-      "recorded as its \"mesh\".");
+      "recorded as its \"mesh\". `patch_radius` (metres): fingers as patches (`--patch-radius`).");
 
   m.def(
       "sample_grasps",

@@ -155,6 +155,10 @@ def test_plan_equals_the_commands_plan_json():
     assert [g["rank"] for g in plan["grasps"]] == [1, 2, 3]
     with pytest.raises(ValueError, match="top"):
         icrkit.plan(mesh, top=0)
+    # Patch fingers, as --patch-radius.
+    patched = icrkit.plan(mesh, top=2, candidates=200, seed=2, patch_radius=0.004)
+    assert patched["patch"] == {"radius_m": 0.004, "filter_border": True} and len(patched["grasps"]) == 2
+    assert plan["patch"] is None
 
 
 def test_the_gil_is_released_during_long_calls():

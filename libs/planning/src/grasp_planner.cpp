@@ -103,6 +103,11 @@ void PlanningParameters::validate() const {
   }
   regions.contact_model.validate();
   if (regions.conservative) regions.conservative->validate();
+  if (patch) {
+    patch->validate();
+    if (regions.conservative)
+      throw InputError("PlanningParameters::patch", "", "patch contacts cannot be combined with conservative growth yet");
+  }
   trust.validate();
   placement.validate();
 }
@@ -277,6 +282,44 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
                          ", the task with its margin needs " + need + small);
   }
   std::sort(scored.begin(), scored.end(), better);
+  if (params.patch) {
+    // Patch fingers for the best few only: their regions grown again from
+    // the patch hull, for the same task, and scored again.
+    phase = Clock::now();
+    const icr::ContactPatches patches(trusted, *params.patch);
+    if (scored.size() > 3 * params.top) scored.resize(3 * params.top);
+    std::vector<std::uint8_t> kept(scored.size(), 0);
+    tbb::parallel_for(std::size_t{0}, scored.size(), [&](std::size_t k) {
+      PlannedGrasp& g = scored[k];
+      icr::IcrParameters growth = params.regions;
+      growth.tws_radius = g.growth_tws_radius;
+      try {
+        icr::IcrResult regions = icr::computePatchContactRegions(trusted, patches, g.contacts, growth);
+        if (std::any_of(regions.regions.begin(), regions.regions.end(), [&](const icr::ContactRegion& r) {
+              return r.vertices.empty() || (min_area ? r.area_m2 < *min_area : !(r.area_m2 > 0.0));
+            }))
+          return;
+        g.regions = std::move(regions);
+        g.score = scorer.score(g.regions);
+        kept[k] = 1;
+      } catch (const InputError&) {
+        // The patch grasp does not reach the task (patches on a thin
+        // feature can cancel): the next candidate takes its place.
+      }
+    });
+    std::vector<PlannedGrasp> patched;
+    for (std::size_t k = 0; k < scored.size(); ++k)
+      if (kept[k]) patched.push_back(std::move(scored[k]));
+    if (patched.empty())
+      throw InputError("grasp planning", "",
+                       "none of the best " + std::to_string(scored.size()) +
+                           " candidates meets the task with patch contacts of radius " +
+                           std::to_string(params.patch->radius_m) + " m");
+    scored = std::move(patched);
+    std::sort(scored.begin(), scored.end(), better);
+    result.patch = params.patch;
+    report.regions_ms += msSince(phase);
+  }
   if (scored.size() > params.top) scored.resize(params.top);
   for (std::size_t r = 0; r < scored.size(); ++r) scored[r].rank = r + 1;
   result.grasps = std::move(scored);

@@ -104,6 +104,11 @@ std::string planJson(const std::string& mesh_path, const icr::GraspableObject& o
   plan["model"]["mu_t"] = model.torsional_friction;
   plan["model"]["mu"] = model.friction;
   plan["model"]["edges"] = model.cone_edges;
+  // The regions' contact model: a finger is a patch of this radius around
+  // the aim (docs/planning.md), or a point.
+  plan["patch"] = result.patch ? nlohmann::json{{"radius_m", result.patch->radius_m},
+                                                {"filter_border", result.patch->filter_border}}
+                               : nlohmann::json(nullptr);
   if (!extra.empty()) plan.update(nlohmann::json::parse(extra));
   return plan.dump();
 }

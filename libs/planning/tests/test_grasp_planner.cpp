@@ -79,6 +79,37 @@ TEST(GraspPlanner, PlacementErrorZeroGivesCertainLanding) {
   for (const PlannedGrasp& g : planGrasps(object, params).grasps) EXPECT_DOUBLE_EQ(g.score.probability, 1.0);
 }
 
+TEST(GraspPlanner, PatchFingersGetRegionsWhosePatchAimsHoldTheTask) {
+  const TriangleMesh cube = test::griddedCube(0.04, 20);
+  const icr::GraspableObject object = icr::GraspableObject::withDefaultFrame(cube, {}, icr::TorqueReference::Centroid);
+  PlanningParameters params = cubeParameters();
+  params.patch = icr::PatchParameters{};
+  params.patch->radius_m = 0.003;
+  const PlanResult plan = planGrasps(object, params);
+  ASSERT_EQ(plan.grasps.size(), 5u);
+  ASSERT_TRUE(plan.patch.has_value());
+  const ContactTrust trust = assessContactTrust(cube, {}, params.trust);
+  const icr::GraspableObject trusted(cube, object.frame(), trust.untrusted);
+  const icr::ContactPatches patches(trusted, *params.patch);
+  for (std::size_t g = 0; g < plan.grasps.size(); ++g) {
+    const PlannedGrasp& grasp = plan.grasps[g];
+    if (g > 0) EXPECT_LE(grasp.score.probability, plan.grasps[g - 1].score.probability);
+    std::vector<int> aims;
+    for (const icr::ContactRegion& r : grasp.regions.regions) {
+      for (int v : r.vertices) EXPECT_EQ(trust.untrusted[static_cast<std::size_t>(v)], 0) << "vertex " << v;
+      aims.push_back(r.recommended.vertex);
+    }
+    // The ICR guarantee of the patch model: patch fingers at the aims hold the grown task.
+    const icr::GraspWrenchSpace gws = icr::patchGraspWrenchSpace(patches, aims, params.regions.contact_model);
+    EXPECT_TRUE(gws.force_closure);
+    EXPECT_GE(gws.epsilon, grasp.growth_tws_radius);
+  }
+  EXPECT_NE(planJson("cube", object, params.regions.contact_model, plan).find("\"patch\":{\"filter_border\":true,\"radius_m\":0.003}"),
+            std::string::npos);
+  params.regions.conservative = icr::ConservativeGrowth{};
+  EXPECT_EQ(test::expectInputError([&] { planGrasps(object, params); }).source(), "PlanningParameters::patch");
+}
+
 TEST(GraspPlanner, RefusesWhatCannotBePlanned) {
   const TriangleMesh cube = test::griddedCube(0.04, 10);
   const icr::GraspableObject object = icr::GraspableObject::withDefaultFrame(cube, {}, icr::TorqueReference::Centroid);

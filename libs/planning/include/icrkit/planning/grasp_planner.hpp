@@ -21,6 +21,7 @@
 #include <icrkit/core/progress.hpp>
 #include <icrkit/icr/graspable_object.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
+#include <icrkit/icr/patch_contacts.hpp>
 #include <icrkit/planning/contact_trust.hpp>
 #include <icrkit/planning/placement_score.hpp>
 
@@ -55,6 +56,12 @@ struct PlanningParameters {
   std::optional<double> min_region_area_m2;
   ContactTrustParameters trust;
   PlacementParameters placement;
+  /// Multi-point (patch) contacts (icr/patch_contacts.hpp): the candidates
+  /// are screened and ranked with point contacts as always (a patch hull
+  /// costs up to seconds on a dense mesh), then the best 3 x `top` get
+  /// their regions grown again for patch fingers, are scored again and the
+  /// best `top` of those are returned. Not with conservative growth.
+  std::optional<icr::PatchParameters> patch;
 
   /// InputError naming the field for a value out of range.
   void validate() const;
@@ -96,6 +103,7 @@ struct PlanReport {
 struct PlanResult {
   std::vector<PlannedGrasp> grasps;  ///< best first
   PlanReport report;
+  std::optional<icr::PatchParameters> patch;  ///< the contacts' patches, when the regions are a patch model's
 };
 
 /// `object`'s exclusion mask (preselection) is honoured; trust is assessed
