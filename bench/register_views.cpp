@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
       else if (name == "degeneracy_ratio") r.degeneracy_ratio = value;
       else if (name == "hessian_information") r.hessian_information = value != 0;
       else if (name == "variance_rounds") r.variance_rounds = int(value);
+      else if (name == "retry_angle") r.model_alignment_retry_angle = value;
       else if (name == "pair_ndt") r.pair_ndt = value != 0;
       else if (name == "max_icp_points") r.icp_max_source_points = static_cast<std::size_t>(value);
       else if (name == "min_normalized_score") r.min_normalized_score = value;

@@ -432,17 +432,40 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
           for (const Eigen::Vector3d& p : points[j]) others.positions.push_back(poses[j] * p);
       try {
         const ndt::NdtTarget target(others, level);
-        ndt::NdtResult r = ndt::registerNdt(positionsOnly(sources[i]), target, poses[i], level);
-        if (params.degeneracy_ratio > 0)
-          remapDegenerate(r, poses[i], scanObservability(reduced[i], normals[i], poses[i], params.degeneracy_ratio));
+        const PointCloud source = positionsOnly(sources[i]);
         Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
         for (const Eigen::Vector3d& p : sources[i]) centroid += p;
         centroid /= double(sources[i].size());
-        const bool near = (r.pose * centroid - reported[i] * centroid).norm() <= params.model_alignment_max_translation &&
-                          rotationAngle(r.pose * reported[i].inverse()) <= params.model_alignment_max_rotation;
-
-        if (near && r.normalized_score >= params.min_normalized_score && finitePose(r.pose)) {
-          next[i] = r.pose;
+        // The NDT from `from`; its result when it is kept.
+        auto attempt = [&](const Eigen::Isometry3d& from) -> std::optional<ndt::NdtResult> {
+          ndt::NdtResult r = ndt::registerNdt(source, target, from, level);
+          if (params.degeneracy_ratio > 0)
+            remapDegenerate(r, from, scanObservability(reduced[i], normals[i], from, params.degeneracy_ratio));
+          const bool near =
+              (r.pose * centroid - reported[i] * centroid).norm() <= params.model_alignment_max_translation &&
+              rotationAngle(r.pose * reported[i].inverse()) <= params.model_alignment_max_rotation;
+          if (near && r.normalized_score >= params.min_normalized_score && finitePose(r.pose)) return r;
+          return std::nullopt;
+        };
+        std::optional<ndt::NdtResult> best = attempt(poses[i]);
+        // A view the coarsest level could not place (from tens of
+        // millimetres off it turned around a round object instead): again
+        // from the camera turned a little about its two axes across the
+        // line of sight, which moves the object sideways in the image; the
+        // best score of those kept wins.
+        if (!best && resolution == params.model_alignment_resolutions.front() && params.model_alignment_retry_angle > 0) {
+          const double a = params.model_alignment_retry_angle;
+          for (int u = -1; u <= 1; ++u)
+            for (int v = -1; v <= 1; ++v) {
+              if (u == 0 && v == 0) continue;
+              const Eigen::Isometry3d turned = poses[i] * Eigen::AngleAxisd(u * a, Eigen::Vector3d::UnitY()) *
+                                               Eigen::AngleAxisd(v * a, Eigen::Vector3d::UnitZ());
+              std::optional<ndt::NdtResult> r = attempt(turned);
+              if (r && (!best || r->normalized_score > best->normalized_score)) best = r;
+            }
+        }
+        if (best) {
+          next[i] = best->pose;
           kept[i] = 1;
         }
       } catch (const InputError&) {
