@@ -28,6 +28,19 @@ def rotation_vector_to_matrix(w):
     return np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
 
 
+def perturb(poses, sigma_translation, sigma_rotation_deg, seed):
+    """Each pose T times [Exp(w), v], v and w drawn per view and axis (metres, degrees)."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for pose in poses:
+        v = rng.normal(0.0, sigma_translation, 3)
+        w = rng.normal(0.0, np.radians(sigma_rotation_deg), 3)
+        step = np.eye(4)
+        step[:3, :3], step[:3, 3] = rotation_vector_to_matrix(w), v
+        out.append(pose @ step)
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("ground_truth")
@@ -36,16 +49,8 @@ def main():
     ap.add_argument("--sigma-rotation-deg", type=float, default=1.0, help="degrees per axis")
     ap.add_argument("--seed", type=int, default=1)
     a = ap.parse_args()
-    rng = np.random.default_rng(a.seed)
     stamps = [l.split()[0] for l in open(a.ground_truth) if l.split() and not l.startswith("#")]
-    poses = []
-    for pose in read_tum(a.ground_truth):
-        v = rng.normal(0.0, a.sigma_translation, 3)
-        w = rng.normal(0.0, np.radians(a.sigma_rotation_deg), 3)
-        step = np.eye(4)
-        step[:3, :3], step[:3, 3] = rotation_vector_to_matrix(w), v
-        poses.append(pose @ step)
-    write_tum(a.output, stamps, poses)
+    write_tum(a.output, stamps, perturb(read_tum(a.ground_truth), a.sigma_translation, a.sigma_rotation_deg, a.seed))
 
 if __name__ == "__main__":
     main()

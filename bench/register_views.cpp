@@ -23,7 +23,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <utility>
 #include <string>
 #include <vector>
 
@@ -59,12 +58,10 @@ int main(int argc, char** argv) {
         r.model_alignment_resolutions.clear();
         continue;
       }
-      const auto eq = arg.find('=');
       if (arg.rfind("--set", 0) != 0 || a + 1 >= argc) throw InputError(arg, "", "unknown argument");
       const std::string kv = argv[++a];
       const std::string name = kv.substr(0, kv.find('='));
       const std::string text = kv.substr(kv.find('=') + 1);
-      (void)eq;
       if (name == "model_levels") {
         r.model_alignment_resolutions.clear();
         for (std::size_t at = 0; at < text.size();) {

@@ -25,21 +25,24 @@ import sys
 import numpy as np
 
 
+def quaternion_to_matrix(q):
+    """The rotation of a quaternion (x, y, z, w), normalised first."""
+    x, y, z, w = np.array(q, dtype=float) / np.linalg.norm(q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])
+
+
 def read_tum(path):
     poses = []
     for line in open(path):
         f = line.split()
         if not f or f[0].startswith("#"):
             continue
-        t = np.array(list(map(float, f[1:4])))
-        x, y, z, w = np.array(list(map(float, f[4:8]))) / np.linalg.norm(list(map(float, f[4:8])))
-        r = np.array([
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ])
         m = np.eye(4)
-        m[:3, :3], m[:3, 3] = r, t
+        m[:3, :3], m[:3, 3] = quaternion_to_matrix(list(map(float, f[4:8]))), list(map(float, f[1:4]))
         poses.append(m)
     return poses
 
@@ -102,6 +105,33 @@ def pose_errors(est, truth, point):
     return {"raw": series(est, truth, np.eye(4), point), "aligned": series(est, truth, alignment, point)}
 
 
+def fit_to_surface(scene, points):
+    """The rigid motion (4 x 4) fitting `points` to the surface of an Open3D
+    RaycastingScene: point-to-plane ICP with a Tukey kernel and a shrinking
+    pairing distance, 10 -> 2 mm, from the identity."""
+    import open3d as o3d
+    m = np.eye(4)
+    for limit in (0.010, 0.006, 0.004, 0.003, 0.002, 0.002, 0.002, 0.002):
+        p = (m[:3, :3] @ points.T).T + m[:3, 3]
+        closest = scene.compute_closest_points(o3d.core.Tensor(p.astype(np.float32)))
+        q = closest["points"].numpy().astype(float)
+        n = closest["primitive_normals"].numpy().astype(float)
+        r = ((p - q) * n).sum(1)
+        gap = np.linalg.norm(p - q, axis=1)
+        w = np.where(gap < limit, (1 - (r / limit) ** 2) ** 2, 0.0)
+        j = np.hstack([n, np.cross(p, n)])
+        h = (j * w[:, None]).T @ j + 1e-12 * np.eye(6)
+        x = -np.linalg.solve(h, (j * (w * r)[:, None]).sum(0))
+        angle = np.linalg.norm(x[3:])
+        k = x[3:] / angle if angle > 0 else np.zeros(3)
+        kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+        step = np.eye(4)
+        step[:3, :3] = np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
+        step[:3, 3] = x[:3]
+        m = step @ m
+    return m
+
+
 def surface_errors(points, reference_path, fit=True):
     import open3d as o3d
     mesh = o3d.io.read_triangle_mesh(reference_path)
@@ -116,25 +146,7 @@ def surface_errors(points, reference_path, fit=True):
     d = distances(points)
     out["mean_mm"], out["median_mm"] = float(d.mean() * 1e3), float(np.median(d) * 1e3)
     if fit:
-        m = np.eye(4)
-        for limit in (0.010, 0.006, 0.004, 0.003, 0.002, 0.002, 0.002, 0.002):
-            p = (m[:3, :3] @ points.T).T + m[:3, 3]
-            closest = scene.compute_closest_points(o3d.core.Tensor(p.astype(np.float32)))
-            q = closest["points"].numpy().astype(float)
-            n = closest["primitive_normals"].numpy().astype(float)
-            r = ((p - q) * n).sum(1)
-            gap = np.linalg.norm(p - q, axis=1)
-            w = np.where(gap < limit, (1 - (r / limit) ** 2) ** 2, 0.0)
-            j = np.hstack([n, np.cross(p, n)])
-            h = (j * w[:, None]).T @ j + 1e-12 * np.eye(6)
-            x = -np.linalg.solve(h, (j * (w * r)[:, None]).sum(0))
-            angle = np.linalg.norm(x[3:])
-            k = x[3:] / angle if angle > 0 else np.zeros(3)
-            kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-            step = np.eye(4)
-            step[:3, :3] = np.eye(3) + np.sin(angle) * kx + (1 - np.cos(angle)) * kx @ kx
-            step[:3, 3] = x[:3]
-            m = step @ m
+        m = fit_to_surface(scene, points)
         p = (m[:3, :3] @ points.T).T + m[:3, 3]
         d = distances(p)
         out["fitted_mean_mm"], out["fitted_median_mm"] = float(d.mean() * 1e3), float(np.median(d) * 1e3)

@@ -40,23 +40,14 @@ import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
-from registration_measures import angle_of, pose_errors, read_tum, write_tum  # noqa: E402
-from perturb_poses import rotation_vector_to_matrix  # noqa: E402
+from registration_measures import angle_of, fit_to_surface, pose_errors, quaternion_to_matrix, read_tum, write_tum  # noqa: E402
+from perturb_poses import perturb  # noqa: E402
 
 data = os.path.abspath(os.path.join(here, "..", "..", "shared", "data"))
 
 
 def run(cmd, **kw):
     return subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True, **kw).stdout
-
-
-def quaternion_matrix(q):
-    x, y, z, w = np.array(q) / np.linalg.norm(q)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
 
 
 def link_views(source_dir, indices, target_dir, truth, truths_extra=None):
@@ -101,7 +92,7 @@ def prepare(name, build, work, sim_seed):
             f = line.split()
             if f and f[0] == "bmesh":
                 m = np.eye(4)
-                m[:3, :3] = quaternion_matrix(list(map(float, f[5:9]))).T
+                m[:3, :3] = quaternion_to_matrix(list(map(float, f[5:9]))).T
                 m[:3, 3] = list(map(float, f[2:5]))
                 conf[f[1]] = m
         os.makedirs(tmp)
@@ -128,18 +119,6 @@ def prepare(name, build, work, sim_seed):
         f.write(os.path.abspath(reference) + "\n")
     os.rename(tmp, out)
     return out
-
-
-def perturb(truth, mm, deg, seed):
-    rng = np.random.default_rng(seed)
-    poses = []
-    for pose in truth:
-        v = rng.normal(0.0, mm * 1e-3, 3)
-        w = rng.normal(0.0, np.radians(deg), 3)
-        step = np.eye(4)
-        step[:3, :3], step[:3, 3] = rotation_vector_to_matrix(w), v
-        poses.append(pose @ step)
-    return poses
 
 
 class Judge:
@@ -177,22 +156,7 @@ class Judge:
         return self.scene.compute_distance(t).numpy().astype(float)
 
     def fit(self, points):
-        m = np.eye(4)
-        for limit in (0.010, 0.006, 0.004, 0.003, 0.002, 0.002, 0.002, 0.002):
-            p = (m[:3, :3] @ points.T).T + m[:3, 3]
-            closest = self.scene.compute_closest_points(self.o3d.core.Tensor(p.astype(np.float32)))
-            q = closest["points"].numpy().astype(float)
-            n = closest["primitive_normals"].numpy().astype(float)
-            r = ((p - q) * n).sum(1)
-            gap = np.linalg.norm(p - q, axis=1)
-            w = np.where(gap < limit, (1 - (r / limit) ** 2) ** 2, 0.0)
-            j = np.hstack([n, np.cross(p, n)])
-            h = (j * w[:, None]).T @ j + 1e-12 * np.eye(6)
-            x = -np.linalg.solve(h, (j * (w * r)[:, None]).sum(0))
-            step = np.eye(4)
-            step[:3, :3], step[:3, 3] = rotation_vector_to_matrix(x[3:]), x[:3]
-            m = step @ m
-        return m
+        return fit_to_surface(self.scene, points)
 
     def measure(self, poses):
         fused = self.fuse(poses)
@@ -258,7 +222,7 @@ def main():
                     if not os.path.lexists(dst):
                         os.symlink(os.path.realpath(f), dst)
                 # Seeds differ per dataset and class, so no two runs share their errors.
-                start = perturb(judge.truth, mm, deg, seed * 1000 + int(mm * 10) + zlib.crc32(name.encode()) % 997)
+                start = perturb(judge.truth, mm * 1e-3, deg, seed * 1000 + int(mm * 10) + zlib.crc32(name.encode()) % 997)
                 write_tum(os.path.join(rundir, "start.txt"), [f"{k:.6f}" for k in range(len(start))], start)
                 start_record = {"measure": judge.measure(start), "poses": judge.pose_errors(start)}
                 for tool in todo:

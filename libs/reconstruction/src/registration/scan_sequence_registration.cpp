@@ -36,6 +36,13 @@ double rotationAngle(const Eigen::Isometry3d& t) { return Eigen::AngleAxisd(t.ro
 
 bool finitePose(const Eigen::Isometry3d& t) { return t.matrix().allFinite(); }
 
+// The mean of `points` (zero for none).
+Eigen::Vector3d centroidOf(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) sum += p;
+  return points.empty() ? sum : Eigen::Vector3d(sum / double(points.size()));
+}
+
 PointCloud positionsOnly(const std::vector<Eigen::Vector3d>& points) {
   PointCloud cloud;
   cloud.positions = points;
@@ -223,9 +230,7 @@ struct SequenceRegistration::Impl {
   // small rotation alone is a large translation).
   std::string judge(const ndt::NdtResult& r, const Eigen::Isometry3d& reference,
                     const std::vector<Eigen::Vector3d>& source, const char* what) const {
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : source) centroid += p;
-    if (!source.empty()) centroid /= double(source.size());
+    const Eigen::Vector3d centroid = centroidOf(source);
     const double shift = (r.pose * centroid - reference * centroid).norm();
     const double angle = rotationAngle(r.pose * reference.inverse());
     if (shift > params.max_correction_translation)
@@ -415,6 +420,8 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
                    SequenceRegistrationResult& result) {
   const std::vector<Eigen::Isometry3d> start = poses;
   const std::size_t n = poses.size();
+  std::vector<Eigen::Vector3d> centroids(n);
+  for (std::size_t i = 0; i < n; ++i) centroids[i] = centroidOf(sources[i]);
   for (double resolution : params.model_alignment_resolutions) {
     ndt::NdtParameters level = params.ndt;
     level.resolutions = {resolution};
@@ -433,9 +440,7 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
       try {
         const ndt::NdtTarget target(others, level);
         const PointCloud source = positionsOnly(sources[i]);
-        Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-        for (const Eigen::Vector3d& p : sources[i]) centroid += p;
-        centroid /= double(sources[i].size());
+        const Eigen::Vector3d& centroid = centroids[i];
         // The NDT from `from`; its result when it is kept.
         auto attempt = [&](const Eigen::Isometry3d& from) -> std::optional<ndt::NdtResult> {
           ndt::NdtResult r = ndt::registerNdt(source, target, from, level);
@@ -478,10 +483,7 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   std::vector<double> moves;
   for (std::size_t i = 0; i < n; ++i) {
     if (sources[i].empty()) continue;
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : sources[i]) centroid += p;
-    centroid /= double(sources[i].size());
-    moves.push_back((poses[i] * centroid - start[i] * centroid).norm());
+    moves.push_back((poses[i] * centroids[i] - start[i] * centroids[i]).norm());
   }
   if (!moves.empty()) {
     result.model_alignment_max_move_m = *std::max_element(moves.begin(), moves.end());
@@ -579,9 +581,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     std::size_t counted = 0;
     for (std::size_t i = 0; i < n; ++i) {
       if (ndt_sources[i].empty()) continue;
-      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      for (const Eigen::Vector3d& p : ndt_sources[i]) centroid += p;
-      centroid /= double(ndt_sources[i].size());
+      const Eigen::Vector3d centroid = centroidOf(ndt_sources[i]);
       const Eigen::Vector3d move = poses[i] * centroid - reported[i] * centroid;
       for (int c = 0; c < 3; ++c) moves.push_back(std::abs(move(c)));
       distance += centroid.norm();
