@@ -65,6 +65,14 @@ struct Scored {
   bool small_region = false;  // met the task, but a region is below the minimum area
 };
 
+// Every finger has somewhere to go: a region with at least `min_area`
+// (unset: with a whole triangle).
+bool usableRegions(const icr::IcrResult& result, const std::optional<double>& min_area) {
+  return std::none_of(result.regions.begin(), result.regions.end(), [&](const icr::ContactRegion& r) {
+    return r.vertices.empty() || (min_area ? r.area_m2 < *min_area : !(r.area_m2 > 0.0));
+  });
+}
+
 bool better(const PlannedGrasp& a, const PlannedGrasp& b) {
   if (a.score.probability != b.score.probability) return a.score.probability > b.score.probability;
   if (a.score.min_depth_m != b.score.min_depth_m) return a.score.min_depth_m > b.score.min_depth_m;
@@ -219,10 +227,7 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
         growth.tws_radius = need;
         s.grasp.regions = icr::computeIndependentContactRegions(trusted, c.contacts, gws, growth);
         // Conservative growth can leave a region empty: nowhere to aim that finger.
-        if (std::any_of(s.grasp.regions.regions.begin(), s.grasp.regions.regions.end(),
-                        [&](const icr::ContactRegion& r) {
-                          return r.vertices.empty() || (min_area ? r.area_m2 < *min_area : !(r.area_m2 > 0.0));
-                        })) {
+        if (!usableRegions(s.grasp.regions, min_area)) {
           s.small_region = true;
           continue;
         }
@@ -295,10 +300,7 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
       growth.tws_radius = g.growth_tws_radius;
       try {
         icr::IcrResult regions = icr::computePatchContactRegions(trusted, patches, g.contacts, growth);
-        if (std::any_of(regions.regions.begin(), regions.regions.end(), [&](const icr::ContactRegion& r) {
-              return r.vertices.empty() || (min_area ? r.area_m2 < *min_area : !(r.area_m2 > 0.0));
-            }))
-          return;
+        if (!usableRegions(regions, min_area)) return;
         g.regions = std::move(regions);
         g.score = scorer.score(g.regions);
         kept[k] = 1;
