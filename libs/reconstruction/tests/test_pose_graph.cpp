@@ -295,6 +295,31 @@ TEST(PoseGraph, CauchyKernelRejectsAWrongLoopClosure) {
   EXPECT_LT(robust.report.edge_weights.back(), 0.01);
 }
 
+TEST(PoseGraph, EveryAnnealingStageGetsItsOwnIterationBudget) {
+  // The wrong loop closure above makes the kernel anneal over several
+  // stages. With a budget shared by the warm start and all stages, a small
+  // one ran out before the final kernel: the wrong edge kept weight and the
+  // poses depended on where the budget ended. Each stage now has its own.
+  const std::vector<Isometry3d> truth = turntableTruth();
+  PoseGraph graph = turntableChain(truth, 42);
+  const Errors clean = poseErrors(optimisePoseGraph(graph).poses, truth);
+  for (std::size_t e = 0; e + 1 < graph.edges.size(); ++e) graph.edges[e].robust = false;
+  PoseGraphEdge wrong;
+  wrong.from = 9;
+  wrong.to = 27;
+  wrong.measurement =
+      truth[9].inverse() * truth[27] * makePose(Vector3d(0.0, 45.0 * kDeg, 0.0), Vector3d(0.2, 0.0, 0.0));
+  wrong.information = poseGraphInformation(0.001, 0.1 * kDeg);
+  graph.edges.push_back(wrong);
+  PoseGraphParameters params;
+  params.kernel = RobustKernel::Cauchy;
+  params.max_iterations = 6;
+  const PoseGraphResult robust = optimisePoseGraph(graph, params);
+  EXPECT_GT(robust.report.iterations, params.max_iterations);  // several stages ran
+  EXPECT_LT(robust.report.edge_weights.back(), 0.01);
+  EXPECT_LT(poseErrors(robust.poses, truth).max_translation, clean.max_translation + 0.002);
+}
+
 TEST(PoseGraph, IsDeterministic) {
   const std::vector<Isometry3d> truth = turntableTruth();
   const PoseGraph graph = turntableChain(truth, 9);

@@ -370,14 +370,17 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
     std::vector<double> delta;
     std::vector<Isometry3d> candidate(n);
     // One Levenberg-Marquardt (or Gauss-Newton) run with a given kernel,
-    // within the shared iteration budget; true when a tolerance was met.
+    // with its own iteration budget; true when a tolerance was met. A budget
+    // shared by the warm start and every annealing stage ran out before the
+    // final kernel on graphs with wrong pairs (a bottle's: the result then
+    // depended on the last bits of the starting poses).
     auto run = [&](const Kernel& stage_kernel) {
       Cost stage_cost = evaluate(graph, result.poses, stage_kernel);
       double lambda = params.levenberg_marquardt ? params.initial_lambda : 0.0;
       double lambda_growth = 2.0;
       bool relinearise = true;
       bool converged = false;
-      while (report.iterations < params.max_iterations) {
+      for (int iteration = 0; iteration < params.max_iterations; ++iteration) {
         ++report.iterations;
         if (relinearise) normal.linearise(result.poses, stage_kernel, report.edge_weights);
         relinearise = false;
@@ -448,8 +451,7 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
           widest2 = std::max(widest2, err.dot(0.5 * (edge.information + edge.information.transpose()) * err));
         }
         const double factor2 = params.kernel_annealing * params.kernel_annealing;
-        for (double width2 = widest2 / factor2; width2 > kernel.width2 && report.iterations < params.max_iterations;
-             width2 /= factor2)
+        for (double width2 = widest2 / factor2; width2 > kernel.width2; width2 /= factor2)
           run(Kernel{kernel.type, width2});
       }
     }

@@ -55,7 +55,8 @@ enum class RobustKernel {
 
 struct PoseGraphParameters {
   /// Upper bound on the number of linearisations (accepted or rejected
-  /// Levenberg-Marquardt steps alike).
+  /// Levenberg-Marquardt steps alike) of each stage: the robust kernel's
+  /// warm start and each of its annealing stages get this many each.
   int max_iterations = 100;
   /// Levenberg-Marquardt damping (H + lambda diag(H)); false = plain
   /// Gauss-Newton (every step taken, diverges more easily from a poor start).
