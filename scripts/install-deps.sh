@@ -23,6 +23,10 @@ packages=(
   # The independent grasp executor of the planner's test (tests/executor/, scipy's ConvexHull).
   python3-scipy
 )
+# `./run fuzz`: libFuzzer (clang and its runtime), only when asked for.
+if [ "${ICRKIT_INSTALL_FUZZ:-0}" = "1" ]; then
+  packages+=(clang-14 libclang-rt-14-dev)
+fi
 
 # Optional tools, keyed by the command they provide (a Node.js install from
 # elsewhere already brings npm; Debian's package would conflict with it).

@@ -379,7 +379,7 @@ GraspRecord fromJsonLine(const std::string& text, const std::string& source, std
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // syntax, and numbers out of range (1e999)
     in.fail("", std::string("expected one JSON object (a grasp record): ") + e.what());
   }
   if (!j.is_object()) in.fail("", "expected one JSON object (a grasp record)");

@@ -119,6 +119,8 @@ StoredPlan parsePlanJson(const std::string& text, const std::string& source, std
     doc = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(source, "byte " + std::to_string(e.byte), "not valid JSON");
+  } catch (const nlohmann::json::exception& e) {  // a number out of range (1e999)
+    throw InputError(source, "", std::string("not valid JSON: ") + e.what());
   }
   const PlanReader read(source, vertex_count);
   StoredPlan plan;

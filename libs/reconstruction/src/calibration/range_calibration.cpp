@@ -197,7 +197,9 @@ RangeErrorModel readRangeErrorModel(const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, "", std::string("not JSON: ") + e.what());
   }
-  if (!json.is_object() || json.value("format", "") != "icrkit range error model 1")
+  // value() would throw a type error for a "format" that is not a string.
+  if (!json.is_object() || !json.contains("format") || !json["format"].is_string() ||
+      json["format"].get<std::string>() != "icrkit range error model 1")
     throw InputError(path, "format", "expected \"icrkit range error model 1\" (written by icrkit calibrate-range)");
   RangeErrorModel model;
   auto number = [&](const char* key, double& value) {
