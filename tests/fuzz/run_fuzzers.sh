@@ -5,7 +5,8 @@
 # Prints one row per target: executions, execs/s, coverage (edges), the
 # corpus size and the crashes found; every crash input is saved as
 # BUILD_DIR/fuzz/crashes/<target>/crash-* (keep it under
-# tests/fuzz-regressions/<target>/ once fixed). Appends each run to
+# tests/fuzz-regressions/<target>/ once fixed; a later run moves it to
+# BUILD_DIR/fuzz/crashes-earlier/). Appends each run to
 # BUILD_DIR/fuzz/runs.jsonl (the time each target was fuzzed in total is
 # the sum there). Exit 1 when any target crashed.
 #   tests/fuzz/run_fuzzers.sh BUILD_DIR SECONDS [TARGET...]
@@ -34,7 +35,9 @@ max_len() {  # as fuzz_targets.cpp sizes them
 
 run_one() {
   local t="$1" log="$work/logs/$1.log"
-  mkdir -p "$work/corpus/$t" "$work/crashes/$t" "$work/logs"
+  mkdir -p "$work/corpus/$t" "$work/crashes/$t" "$work/logs" "$work/crashes-earlier/$t"
+  # This run's crashes only: earlier ones move aside.
+  find "$work/crashes/$t" -type f -exec mv -t "$work/crashes-earlier/$t/" {} +
   local name="$t"
   case "$t" in *_json|*_jsonl) name=json ;; tum_*) name=tum ;; esac
   local dict=()
