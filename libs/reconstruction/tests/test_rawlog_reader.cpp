@@ -196,6 +196,49 @@ TEST(RawlogReader, TruncatedPlainFileNamesTheScanReached) {
   fs::remove_all(scratch);
 }
 
+TEST(RawlogReader, AbsurdRangeImageSizeIsRefusedBeforeMrptAllocatesIt) {
+  // MRPT allocates rows x cols as soon as it has read them; for a corrupt
+  // size its allocator returns null and it writes through it (a crash the
+  // rawlog fuzz target found). The reader refuses the size first.
+  const std::string dir = simulatedRecording(3, false);
+  const fs::path scratch = scratchFolder("absurd_size");
+  const auto reference = loadWithMrpt(dir + "/scans.rawlog");
+  const std::string whole = (scratch / "whole.rawlog").string();
+  {
+    mrpt::io::CFileOutputStream out(whole);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    for (const auto& obs : reference) archive << *obs;
+  }
+  std::ifstream in(whole, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The second scan's range image sizes: after its has-range flag (1) and
+  // range units (float), rows and cols as little-endian words.
+  const auto& second = *reference[1];
+  const std::uint32_t rows = static_cast<std::uint32_t>(second.rangeImage.rows());
+  const std::uint32_t cols = static_cast<std::uint32_t>(second.rangeImage.cols());
+  std::string pattern(1, '\x01');
+  pattern.append(reinterpret_cast<const char*>(&second.rangeUnits), sizeof(float));
+  for (const std::uint32_t word : {rows, cols})
+    for (int k = 0; k < 4; ++k) pattern.push_back(static_cast<char>((word >> (8 * k)) & 0xFF));
+  const std::size_t first = bytes.find(pattern);
+  ASSERT_NE(first, std::string::npos);
+  const std::size_t found = bytes.find(pattern, first + 1);
+  ASSERT_NE(found, std::string::npos);
+  const std::size_t at = found + 5;
+  const std::string huge = "\x12\x34\x56\xF0\x01\x00\x00\x80";
+  bytes.replace(at, 8, huge);
+  const std::string path = (scratch / "absurd.rawlog").string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  std::size_t complete = 0;
+  const InputError e = expectInputError([&] {
+    RawlogReader reader(path);
+    while (reader.next()) ++complete;
+  });
+  EXPECT_EQ(complete, 1u);
+  EXPECT_NE(std::string(e.what()).find("a range image of"), std::string::npos) << e.what();
+  fs::remove_all(scratch);
+}
+
 TEST(RawlogReader, MissingAndEmptyFiles) {
   const fs::path scratch = scratchFolder("missing");
   const std::string missing = (scratch / "nope.rawlog").string();

@@ -5,6 +5,7 @@
 #include <icrkit/reconstruction/input/rawlog_reader.hpp>
 
 #include "observation_scan.hpp"
+#include "rawlog_size_guard.hpp"
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/pose.hpp>
@@ -192,6 +193,9 @@ struct RawlogReader::Impl {
   std::string path;
   RawlogReaderOptions options;
   mrpt::io::CFileGZInputStream stream;
+  // Between the file and MRPT: refuses absurd image and matrix sizes before
+  // MRPT allocates them. 2^26 elements: an 8192 x 8192 range image.
+  RawlogSizeGuard guard{stream, std::uint64_t{1} << 26};
   std::vector<StampedPose> poses;
   std::vector<std::uint8_t> pose_normalised;         // per pose: its quaternion was off unit length
   std::deque<CObservation3DRangeScan::Ptr> pending;  // the rest of the current sensory frame
@@ -200,13 +204,14 @@ struct RawlogReader::Impl {
 
   // Reads objects until a 3D scan is pending or the file ends.
   void fill() {
-    auto archive = mrpt::serialization::archiveFrom(stream);
+    auto archive = mrpt::serialization::archiveFrom(guard);
     while (pending.empty() && !finished) {
       const std::uint64_t before = stream.getPosition();
       mrpt::serialization::CSerializable::Ptr object;
       try {
         object = archive.ReadObject();
       } catch (const std::exception& e) {
+        if (!guard.refusal().empty()) throw InputError(path, scanLocation(scans), guard.refusal());
         // Nothing consumed: a clean end between objects. Anything else is
         // an object cut short (a truncated copy, an interrupted recording).
         if (stream.getPosition() == before && stream.checkEOF()) {

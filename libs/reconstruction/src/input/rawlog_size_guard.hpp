@@ -1,0 +1,79 @@
+#pragma once
+// MRPT's deserializer allocates a range image (CObservation3DRangeScan,
+// rows x cols) or a matrix (CMatrixF/CMatrixD) as soon as it has read the
+// two sizes from the stream, before any pixel; for a corrupt size its
+// aligned allocator returns null and MRPT writes through it (a crash, not
+// an exception; found by the rawlog fuzz target, docs/reliability.md).
+// This stream sits between the file and MRPT's archive and watches the
+// bytes as MRPT reads them: on the object headers of those classes it
+// follows their layout (MRPT 2.5's, versions 8-10 of the range scan)
+// to the sizes and refuses, by throwing before MRPT gets them, a range
+// image or matrix beyond `max_elements` or a point count beyond it. It
+// changes no byte; layouts it does not know it leaves to MRPT.
+
+#include <mrpt/io/CStream.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace icrkit::reconstruction {
+
+class RawlogSizeGuard : public mrpt::io::CStream {
+ public:
+  RawlogSizeGuard(mrpt::io::CStream& inner, std::uint64_t max_elements);
+
+  size_t Read(void* buffer, size_t count) override;
+  size_t Write(const void* buffer, size_t count) override;
+  uint64_t Seek(int64_t offset, CStream::TSeekOrigin origin = sFromBeginning) override;
+  uint64_t getTotalBytesCount() const override;
+  uint64_t getPosition() const override;
+
+  /// Why the last read was refused (empty if none): MRPT may wrap the
+  /// exception thrown through it, so the reader asks here.
+  const std::string& refusal() const { return refusal_; }
+
+ private:
+  enum class State {
+    Idle,             // looking for an object header
+    ScanVersion,      // CObservation3DRangeScan: version byte
+    ScanMaxRange,     // float
+    ScanPoseHeader,   // a CPose3D object header
+    ScanPoseVersion,  // its version (2: seven doubles, 3: twelve)
+    ScanPoseData,
+    ScanPoseEnd,      // the end-of-object flag
+    ScanHasPoints,    // bool
+    ScanPointCount,   // uint32
+    ScanPoints,       // skipped
+    ScanHasRange,     // bool
+    ScanRangeUnits,   // float (version >= 9)
+    ScanRows,         // uint32
+    ScanCols,         // uint32: refused here when too large
+    MatrixVersion,    // CMatrixF / CMatrixD
+    MatrixRows,
+    MatrixCols
+  };
+
+  void consume(const std::uint8_t* data, std::size_t n);
+  void idleByte(std::uint8_t byte);
+  // Collects `need` bytes of a field; true once complete (in field_).
+  bool collect(const std::uint8_t*& data, std::size_t& n, std::size_t need);
+  std::uint32_t fieldU32() const;
+  void refuse(const std::string& what);
+
+  mrpt::io::CStream& inner_;
+  std::uint64_t max_elements_;
+  State state_ = State::Idle;
+  std::array<std::uint8_t, 48> recent_{};  // the last bytes seen while idle (ring)
+  std::size_t recent_count_ = 0;
+  std::string field_;
+  std::uint8_t version_ = 0;
+  std::size_t pose_bytes_ = 0;
+  bool has_range_ = false;
+  std::uint32_t rows_ = 0;
+  std::uint64_t skip_ = 0;
+  std::string refusal_;
+};
+
+}  // namespace icrkit::reconstruction
