@@ -40,12 +40,7 @@ void fuzzRegionsJson(const std::uint8_t* data, std::size_t size) {
 }
 
 void fuzzGraspsJsonl(const std::uint8_t* data, std::size_t size) {
-  const TempInput file(data, size, ".jsonl");
-  try {
-    eval::readGraspRecords(file.path());
-  } catch (const InputError& e) {
-    rejected(e);
-  }
+  readThroughFile(data, size, ".jsonl", [](const std::string& path) { eval::readGraspRecords(path); });
 }
 
 void fuzzPlanJson(const std::uint8_t* data, std::size_t size) {

@@ -13,51 +13,28 @@ namespace icrkit::fuzz {
 
 void fuzzRawlog(const std::uint8_t* data, std::size_t size) {
   // Plain and gzip streams alike (the reader tells them apart itself).
-  const TempInput file(data, size, ".rawlog");
-  try {
-    reconstruction::RawlogReader reader(file.path());
+  readThroughFile(data, size, ".rawlog", [](const std::string& path) {
+    reconstruction::RawlogReader reader(path);
     // A bounded number of scans: a seed holds one or two.
     for (int i = 0; i < 8; ++i)
       if (!reader.next()) break;
-  } catch (const InputError& e) {
-    rejected(e);
-  }
+  });
 }
 
 void fuzzTumDepthList(const std::uint8_t* data, std::size_t size) {
-  const TempInput file(data, size, ".txt");
-  try {
-    reconstruction::readDepthList(file.path());
-  } catch (const InputError& e) {
-    rejected(e);
-  }
+  readThroughFile(data, size, ".txt", [](const std::string& path) { reconstruction::readDepthList(path); });
 }
 
 void fuzzTumPoses(const std::uint8_t* data, std::size_t size) {
-  const TempInput file(data, size, ".txt");
-  try {
-    readTumTrajectory(file.path());
-  } catch (const InputError& e) {
-    rejected(e);
-  }
+  readThroughFile(data, size, ".txt", [](const std::string& path) { readTumTrajectory(path); });
 }
 
 void fuzzCameraJson(const std::uint8_t* data, std::size_t size) {
-  const TempInput file(data, size, ".json");
-  try {
-    reconstruction::readDepthCameraFile(file.path());
-  } catch (const InputError& e) {
-    rejected(e);
-  }
+  readThroughFile(data, size, ".json", [](const std::string& path) { reconstruction::readDepthCameraFile(path); });
 }
 
 void fuzzRangeModelJson(const std::uint8_t* data, std::size_t size) {
-  const TempInput file(data, size, ".json");
-  try {
-    reconstruction::readRangeErrorModel(file.path());
-  } catch (const InputError& e) {
-    rejected(e);
-  }
+  readThroughFile(data, size, ".json", [](const std::string& path) { reconstruction::readRangeErrorModel(path); });
 }
 
 }  // namespace icrkit::fuzz

@@ -2,6 +2,10 @@
 // Readers that take a path get the fuzz input through a file of its own:
 // unique per process and call, removed when the call ends.
 
+#include "fuzz_targets.hpp"
+
+#include <icrkit/core/error.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -21,5 +25,17 @@ class TempInput {
  private:
   std::string path_;
 };
+
+/// The fuzz input read by `read(path)` through a file of its own; the
+/// reader's InputError is the expected answer to bad bytes.
+template <typename Read>
+void readThroughFile(const std::uint8_t* data, std::size_t size, const std::string& suffix, Read read) {
+  const TempInput file(data, size, suffix);
+  try {
+    read(file.path());
+  } catch (const InputError& e) {
+    rejected(e);
+  }
+}
 
 }  // namespace icrkit::fuzz

@@ -171,18 +171,23 @@ TEST(RawlogReader, TruncatedGzipNamesTheScanReached) {
   fs::remove_all(scratch);
 }
 
+// The observations written as a plain (uncompressed) rawlog at `path`; its bytes.
+std::string plainRawlogBytes(const std::vector<mrpt::obs::CObservation3DRangeScan::Ptr>& observations,
+                             const std::string& path) {
+  {
+    mrpt::io::CFileOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    for (const auto& obs : observations) archive << *obs;
+  }
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 TEST(RawlogReader, TruncatedPlainFileNamesTheScanReached) {
   const std::string dir = simulatedRecording(4, false);
   const fs::path scratch = scratchFolder("truncated_plain");
   const auto reference = loadWithMrpt(dir + "/scans.rawlog");
-  const std::string whole = (scratch / "whole.rawlog").string();
-  {
-    mrpt::io::CFileOutputStream out(whole);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    for (const auto& obs : reference) archive << *obs;
-  }
-  std::ifstream in(whole, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = plainRawlogBytes(reference, (scratch / "whole.rawlog").string());
   const std::string path = (scratch / "cut.rawlog").string();
   // Cut inside the third scan.
   std::ofstream(path, std::ios::binary) << bytes.substr(0, bytes.size() * 5 / 8);
@@ -203,14 +208,7 @@ TEST(RawlogReader, AbsurdRangeImageSizeIsRefusedBeforeMrptAllocatesIt) {
   const std::string dir = simulatedRecording(3, false);
   const fs::path scratch = scratchFolder("absurd_size");
   const auto reference = loadWithMrpt(dir + "/scans.rawlog");
-  const std::string whole = (scratch / "whole.rawlog").string();
-  {
-    mrpt::io::CFileOutputStream out(whole);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    for (const auto& obs : reference) archive << *obs;
-  }
-  std::ifstream in(whole, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string bytes = plainRawlogBytes(reference, (scratch / "whole.rawlog").string());
   // The second scan's range image sizes: after its has-range flag (1) and
   // range units (float), rows and cols as little-endian words.
   const auto& second = *reference[1];
