@@ -14,6 +14,8 @@ packages=(
   libsuitesparse-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   liblzf-dev libcli11-dev nlohmann-json3-dev libnanoflann-dev libtbb-dev libfmt-dev libspdlog-dev
+  # ROS 2 bags (MCAP): zstd- and lz4-compressed chunks.
+  libzstd-dev liblz4-dev
   # MRPT's sample datasets: the reader test loads its tests_rgbd.rawlog.
   mrpt-common
   # The icrkit Python package (python/) and its tests, for the system python3.
@@ -32,7 +34,9 @@ fi
 # elsewhere already brings npm; Debian's package would conflict with it).
 # Without them icrkit still builds and passes its tests:
 #   npm       scripts/vendor-threejs.sh fetches three.js for the 3D viewer of
-#             `icrkit report` (without it the report says the viewer is unavailable)
+#             `icrkit report` (without it the report says the viewer is unavailable);
+#             with node, tests/cli_bag.sh writes its ROS 2 bags with the npm
+#             packages of tests/bags (`npm ci --prefix tests/bags`; skipped without them)
 #   chromium  the headless-browser checks of tests/cli_report.sh (skipped
 #             without it); set ICRKIT_INSTALL_BROWSER=0 to leave it out
 #   slurmctld, munged (Debian slurm-wlm, munge)  tests/slurm_study.sh runs the

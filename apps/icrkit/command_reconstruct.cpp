@@ -40,6 +40,23 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
     if (gt_mesh->faces.empty()) throw InputError(options.gt_mesh, "", "has no faces; --gt-mesh needs a surface");
     if (!params.make_meshes) throw InputError("--gt-mesh", "", "measures the meshes, which --no-meshes skips");
   }
+  // A bag's topics and frames, chosen by its reader; read before the long
+  // run so that a bag without camera or poses fails at once.
+  std::optional<nlohmann::json> bag_input;
+  if (reconstruction::isBag(options.input)) {
+    const reconstruction::McapReader bag(options.input, params.mcap);
+    bag_input = nlohmann::json{{"kind", "ros2 bag (mcap)"},
+                               {"depth_topic", bag.depthTopic()},
+                               {"depth_encoding", bag.depthEncoding()},
+                               {"camera_info_topic", bag.cameraInfoTopic()},
+                               {"pose_source", bag.poseMatching()},
+                               {"pose_topic", bag.poseTopic()},
+                               {"frames", bag.poseSource() == reconstruction::BagPoseSource::Tf
+                                              ? nlohmann::json{bag.parentFrame(), bag.childFrame()}
+                                              : nlohmann::json(nullptr)},
+                               {"max_time_difference_s", params.mcap.max_time_difference},
+                               {"images", bag.scanCount()}};
+  }
   requireOutputFolder(options.output);
 
   const reconstruction::ReconstructionResult result =
@@ -72,6 +89,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
                                            options.write_registration_input);
   // The command line's names for where the camera's values came from.
   if (result.depth_camera) summary["depth_camera"] = depthCameraJson(*result.depth_camera);
+  if (bag_input) summary["bag"] = *bag_input;
   summary["time_ms"]["write"] = context.elapsedMs() - write_start;
   summary["time_ms"]["total"] = context.elapsedMs();
   if (!surface.empty())
@@ -91,7 +109,8 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
       "ball pivoting of the fused cloud (raw mesh) and of its 3D-NDT smoothed, preselected version (filtered "
       "mesh). Writes DIR/cloud.ply, DIR/raw.ply, DIR/filtered.ply, DIR/poses.txt (TUM, MRPT's sensor axes like a "
       "rawlog's sensorPose, for a folder too) and DIR/reconstruction.json. The input may also be a TUM RGB-D "
-      "folder (depth.txt, 16-bit depth PNGs; docs/reconstruction_input.md)");
+      "folder (depth.txt, 16-bit depth PNGs) or a ROS 2 bag (MCAP: --depth-topic, --pose-topic or --frames; "
+      "docs/reconstruction_input.md)");
   auto options = std::make_shared<ReconstructOptions>();
   addReconstructOptions(*command, *options);
   command->callback([&runner, options] {
@@ -109,6 +128,14 @@ void addReconstructCommand(CLI::App& app, CommandRunner& runner) {
                          {"SmoothingParameters::passes", "--passes"},
                          {"DepthCameraOptions::depth_scale", "--depth-scale"},
                          {"DepthCameraOptions::intrinsics", "--intrinsics"},
+                         {"McapReaderOptions::depth_topic", "--depth-topic"},
+                         {"McapReaderOptions::camera_info_topic", "--camera-info-topic"},
+                         {"McapReaderOptions::pose_topic", "--pose-topic"},
+                         {"McapReaderOptions::parent_frame", "--frames"},
+                         {"McapReaderOptions::child_frame", "--frames"},
+                         {"McapReaderOptions::intrinsics", "--intrinsics"},
+                         {"McapReaderOptions::depth_scale", "--depth-scale"},
+                         {"McapReaderOptions::max_time_difference", "--max-time-difference"},
                          {"ReconstructionParameters::pose_file", "--poses"},
                          {"BallPivotingParameters::thinning_factor", "--mesh-thinning"}});
       context.emit(reconstruct(*options, context));

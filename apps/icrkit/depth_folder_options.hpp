@@ -1,11 +1,14 @@
 #pragma once
 // The options of a TUM RGB-D folder input (camera, depth scale, pose
-// matching), shared by `icrkit reconstruct` and `icrkit convert`.
+// matching), shared by `icrkit reconstruct` and `icrkit convert`, and those
+// of a ROS 2 bag input (topics, tf frames), which reuses --intrinsics,
+// --depth-scale and --max-time-difference.
 // Header-only so that the commands share it without another source file.
 
 #include "argument_parsing.hpp"
 
 #include <icrkit/core/error.hpp>
+#include <icrkit/reconstruction/input/mcap_reader.hpp>
 #include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 
 #include <CLI/CLI.hpp>
@@ -30,20 +33,52 @@ struct DepthFolderFlags {
 
 inline void addDepthFolderOptions(CLI::App& command, DepthFolderFlags& flags) {
   command.add_option("--intrinsics", flags.intrinsics,
-                     "TUM folder input: the depth camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] (pixels; plumb-bob "
-                     "distortion); replaces the camera file's");
+                     "TUM folder or ROS 2 bag input: the depth camera fx,fy,cx,cy[,k1,k2,p1,p2,k3] (pixels; "
+                     "plumb-bob distortion); replaces the camera file's or the bag's CameraInfo");
   command.add_option("--depth-scale", flags.depth_scale,
-                     "TUM folder input: depth counts per metre (1000 = millimetres). Default: the camera file's, "
-                     "else TUM's 5000");
+                     "TUM folder or ROS 2 bag input: depth counts per metre (1000 = millimetres). Default: the camera "
+                     "file's, else TUM's 5000; for a bag's 16UC1 images 1000 (REP 118)");
   command.add_option("--camera", flags.camera,
                      "TUM folder input: camera file (JSON: fx, fy, cx, cy, distortion_k1_k2_p1_p2_k3, depth_scale, "
                      "max_range_m; docs/reconstruction_input.md). Default: FOLDER/camera.json when present");
   command
       .add_option("--max-time-difference", flags.max_time_difference,
                   "TUM folder input: poses are matched to depth frames by order when their counts are equal, "
-                  "else by nearest time stamp within this many seconds")
+                  "else by nearest time stamp within this many seconds. ROS 2 bag: the farthest a pose (or tf) "
+                  "message may lie from an image's stamp")
       ->capture_default_str();
 }
+
+/// A ROS 2 bag's topics and frames.
+struct BagFlags {
+  std::string depth_topic;
+  std::string camera_info_topic;
+  std::string pose_topic;
+  std::string frames;  ///< PARENT[,CHILD]
+
+  bool anyGiven() const {
+    return !depth_topic.empty() || !camera_info_topic.empty() || !pose_topic.empty() || !frames.empty();
+  }
+};
+
+inline void addBagOptions(CLI::App& command, BagFlags& flags) {
+  command.add_option("--depth-topic", flags.depth_topic,
+                     "ROS 2 bag input: sensor_msgs/msg/Image topic of the depth images (16UC1, 32FC1). Default: the "
+                     "bag's only depth image topic");
+  command.add_option("--camera-info-topic", flags.camera_info_topic,
+                     "ROS 2 bag input: sensor_msgs/msg/CameraInfo topic. Default: camera_info beside the depth topic, "
+                     "else the bag's only one (--intrinsics replaces it)");
+  command.add_option("--pose-topic", flags.pose_topic,
+                     "ROS 2 bag input: geometry_msgs/msg/PoseStamped topic of the camera's optical frame in the object "
+                     "frame, interpolated at each image's stamp. Default: the bag's only PoseStamped topic, else "
+                     "identity poses");
+  command.add_option("--frames", flags.frames,
+                     "ROS 2 bag input: poses from /tf and /tf_static, PARENT,CHILD: the object frame and the camera's "
+                     "optical frame (CHILD default: the images' header.frame_id)");
+}
+
+/// The bag reader's options from the bag flags and the shared camera flags.
+inline reconstruction::McapReaderOptions mcapReaderOptions(const BagFlags& flags, const DepthFolderFlags& camera);
 
 /// "fx,fy,cx,cy" or "fx,fy,cx,cy,k1,k2,p1,p2,k3".
 inline CameraIntrinsics parseIntrinsics(const std::string& text) {
@@ -88,6 +123,39 @@ inline void refuseDepthFolderOptions(const CLI::App& command, const DepthFolderF
   throw InputError(flag, "",
                    "applies to a TUM RGB-D folder input; a rawlog carries its own camera (cameraParams, "
                    "rangeUnits) and matches poses by order");
+}
+
+inline reconstruction::McapReaderOptions mcapReaderOptions(const BagFlags& flags, const DepthFolderFlags& camera) {
+  if (!camera.camera.empty())
+    throw InputError("--camera", "", "applies to a TUM folder; a ROS 2 bag's camera is its CameraInfo (or --intrinsics)");
+  reconstruction::McapReaderOptions options;
+  options.depth_topic = flags.depth_topic;
+  options.camera_info_topic = flags.camera_info_topic;
+  options.pose_topic = flags.pose_topic;
+  if (!flags.frames.empty()) {
+    const std::vector<std::string> frames = split(flags.frames, ',');
+    if (frames.empty() || frames.size() > 2 || frames[0].empty() || (frames.size() == 2 && frames[1].empty()))
+      throw InputError("--frames", "", "expected PARENT or PARENT,CHILD (tf frame ids), got '" + flags.frames + "'");
+    options.parent_frame = frames[0];
+    if (frames.size() == 2) options.child_frame = frames[1];
+  }
+  if (!flags.pose_topic.empty() && !flags.frames.empty())
+    throw InputError("--pose-topic", "", "give --pose-topic or --frames, not both");
+  const reconstruction::DepthCameraOptions lens = depthCameraOptions(camera);
+  options.intrinsics = lens.intrinsics;
+  options.depth_scale = lens.depth_scale;
+  options.max_time_difference = camera.max_time_difference;
+  return options;
+}
+
+/// The options only a bag input takes, refused for a rawlog or a folder.
+inline void refuseBagOptions(const BagFlags& flags, const char* input_kind) {
+  if (!flags.anyGiven()) return;
+  const char* flag = !flags.depth_topic.empty()         ? "--depth-topic"
+                     : !flags.camera_info_topic.empty() ? "--camera-info-topic"
+                     : !flags.pose_topic.empty()        ? "--pose-topic"
+                                                        : "--frames";
+  throw InputError(flag, "", std::string("applies to a ROS 2 bag (MCAP) input, not to a ") + input_kind);
 }
 
 /// The library's record of the camera (reconstruction::depthCameraRecordJson)

@@ -34,7 +34,8 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
   options.command = &command;
   command
       .add_option("input", options.input,
-                  "Rawlog of CObservation3DRangeScan (plain or gzip), or a TUM RGB-D folder (depth.txt, depth/*.png)")
+                  "Rawlog of CObservation3DRangeScan (plain or gzip), a TUM RGB-D folder (depth.txt, depth/*.png) "
+                  "or a ROS 2 bag (.mcap: depth images, CameraInfo, poses from a topic or tf)")
       ->required();
   command.add_option("-o,--output", options.output, "Output directory (created; files replaced atomically)")
       ->required();
@@ -50,6 +51,7 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
                      "to it (point-to-plane ICP) and measured per vertex, distance and normal error near its sharp "
                      "edges and elsewhere, in DIR/surface.json and the summary (docs/evaluation.md)");
   addDepthFolderOptions(command, options.folder);
+  addBagOptions(command, options.bag);
   command
       .add_option("--rotation-tolerance", options.rotation_tolerance,
                   "Largest max |R^T R - I| of a rawlog's sensorPose rotation that is projected onto the nearest "
@@ -116,12 +118,24 @@ reconstruction::ReconstructionParameters reconstructionParameters(const Reconstr
   reconstruction::ReconstructionParameters params;
   params.pose_file = options.poses;
   params.images_folder = options.images;
-  if (reconstruction::isDepthImageFolder(options.input)) {
+  if (reconstruction::isBag(options.input)) {
+    if (!options.images.empty())
+      throw InputError("--images", "", "applies to a rawlog input (its externally stored images), not a ROS 2 bag");
+    if (!options.poses.empty())
+      throw InputError("--poses", "",
+                       "a ROS 2 bag takes its poses from a PoseStamped topic (--pose-topic) or tf (--frames)");
+    params.mcap = mcapReaderOptions(options.bag, options.folder);
+    params.depth_camera.intrinsics = params.mcap.intrinsics;
+    params.depth_camera.depth_scale = params.mcap.depth_scale;
+    params.max_time_difference = options.folder.max_time_difference;
+  } else if (reconstruction::isDepthImageFolder(options.input)) {
     if (!options.images.empty())
       throw InputError("--images", "", "applies to a rawlog input (its externally stored images), not a folder");
+    refuseBagOptions(options.bag, "TUM folder");
     params.depth_camera = depthCameraOptions(options.folder);
     params.max_time_difference = options.folder.max_time_difference;
   } else {
+    refuseBagOptions(options.bag, "rawlog");
     refuseDepthFolderOptions(*options.command, options.folder);
   }
   params.rotation_tolerance = options.rotation_tolerance;

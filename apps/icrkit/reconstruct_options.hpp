@@ -50,6 +50,7 @@ struct ReconstructOptions {
   double board_square = 0.0;
   std::string board_origin;
   DepthFolderFlags folder;
+  BagFlags bag;
   double rotation_tolerance = kReadRotationTolerance;
   const CLI::App* command = nullptr;  // which options were given
 };

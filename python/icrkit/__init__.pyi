@@ -1,5 +1,5 @@
 # Type stubs of the icrkit package, so that editors complete the API.
-from typing import Any, Callable, Dict, List, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +63,40 @@ def independent_contact_regions(
     position_uncertainty: Optional[float] = ...,
     patch_radius: Optional[float] = ...,
 ) -> Dict[str, Any]: ...
+def read_tum_poses(path: str) -> Tuple[np.ndarray, np.ndarray]: ...
+
+class Reconstructor:
+    def __init__(
+        self,
+        crop_box: Optional[Sequence[float]] = ...,
+        auto_crop_half_size: float = ...,
+        register: bool = ...,
+        smoothing: str = ...,
+        meshes: bool = ...,
+        raw_mesh: bool = ...,
+    ) -> None: ...
+    def add_depth(
+        self,
+        depth: np.ndarray,
+        intrinsics: Sequence[float],
+        pose: np.ndarray,
+        timestamp: float = ...,
+        depth_scale: float = ...,
+        distortion: Optional[Sequence[float]] = ...,
+        max_range: float = ...,
+    ) -> None: ...
+    def add_points(self, points: np.ndarray, pose: np.ndarray, timestamp: float = ..., max_range: float = ...) -> None: ...
+    def __len__(self) -> int: ...
+    @property
+    def up_to_date(self) -> bool: ...
+    @property
+    def stored_bytes(self) -> int: ...
+    def cloud(self, progress: Optional[Callable[[str, int, int], None]] = ...) -> PointCloud: ...
+    def meshes(self, progress: Optional[Callable[[str, int, int], None]] = ...) -> Tuple[Optional[TriangleMesh], TriangleMesh]: ...
+    def poses(self, reported: bool = ..., progress: Optional[Callable[[str, int, int], None]] = ...) -> np.ndarray: ...
+    def report(self, progress: Optional[Callable[[str, int, int], None]] = ...) -> Dict[str, Any]: ...
+    def write(self, directory: str, progress: Optional[Callable[[str, int, int], None]] = ...) -> None: ...
+
 def reconstruct(
     input: str,
     poses: str = ...,

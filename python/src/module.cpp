@@ -12,6 +12,7 @@ namespace icrkit::python {
 void bindGeometry(py::module_& m);
 void bindAlgorithms(py::module_& m);
 void bindEvaluation(py::module_& m);
+void bindReconstructor(py::module_& m);
 }  // namespace icrkit::python
 
 PYBIND11_MODULE(_icrkit, m) {
@@ -26,4 +27,5 @@ PYBIND11_MODULE(_icrkit, m) {
   icrkit::python::bindGeometry(m);
   icrkit::python::bindAlgorithms(m);
   icrkit::python::bindEvaluation(m);
+  icrkit::python::bindReconstructor(m);
 }

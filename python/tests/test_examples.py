@@ -32,3 +32,12 @@ def test_open3d_interop_goes_both_ways():
     assert "Open3D: area" in stdout and produced
     area = float(stdout.split("Open3D: area ")[1].split()[0])
     assert abs(area - 314.2) < 0.05 * 314.2, stdout
+
+
+def test_streaming_the_shared_folder_plans_grasps():
+    pytest.importorskip("PIL")
+    folder = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data", "primesense-bunny", "tum")
+    if not os.path.exists(os.path.join(folder, "depth.txt")):
+        pytest.skip("shared data not found: " + folder)
+    stdout, produced = run("stream_tum_folder.py", "out", folder, "--top", "3")
+    assert "18 scans fed" in stdout and "grasp 1:" in stdout, stdout

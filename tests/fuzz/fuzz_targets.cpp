@@ -18,6 +18,7 @@ const std::vector<FuzzTarget>& fuzzTargets() {
       {"pcd", fuzzPcd, 1 << 18},
       {"xyz", fuzzXyz, 1 << 16},
       {"rawlog", fuzzRawlog, 1 << 20},
+      {"mcap", fuzzMcap, 1 << 16},
       {"tum_depth_list", fuzzTumDepthList, 1 << 14},
       {"tum_poses", fuzzTumPoses, 1 << 14},
       {"camera_json", fuzzCameraJson, 1 << 12},

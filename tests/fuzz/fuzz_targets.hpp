@@ -31,6 +31,7 @@ void fuzzPcd(const std::uint8_t* data, std::size_t size);
 void fuzzXyz(const std::uint8_t* data, std::size_t size);
 // Recordings and their side files (reconstruction/input, calibration, core/pose).
 void fuzzRawlog(const std::uint8_t* data, std::size_t size);
+void fuzzMcap(const std::uint8_t* data, std::size_t size);  ///< ROS 2 bags
 void fuzzTumDepthList(const std::uint8_t* data, std::size_t size);
 void fuzzTumPoses(const std::uint8_t* data, std::size_t size);
 void fuzzCameraJson(const std::uint8_t* data, std::size_t size);

@@ -85,6 +85,87 @@ put("range_model_json", "model.json", json.dumps({
     "calibration": {"scans": 12, "samples": 4000, "rejected": 3, "min_range_m": 0.5, "max_range_m": 2.0,
                     "rms_before_m": 0.006, "rms_after_m": 0.002}}))
 
+
+
+# A small ROS 2 bag (MCAP, CDR): two 4x3 16UC1 depth images, a CameraInfo,
+# a PoseStamped topic and tf (dynamic world -> base, static base -> cam),
+# in an uncompressed chunk (and an lz4 one when python3-lz4 is there).
+def mcap_bag(compress=None):
+    def record(op, body):
+        return bytes([op]) + struct.pack("<Q", len(body)) + body
+
+    def text(value):
+        return struct.pack("<I", len(value)) + value.encode()
+
+    class Cdr:
+        def __init__(self):
+            self.b = bytearray(b"\x00\x01\x00\x00")
+
+        def put(self, fmt, value):
+            size = struct.calcsize(fmt)
+            while (len(self.b) - 4) % size:
+                self.b.append(0)
+            self.b += struct.pack("<" + fmt, value)
+            return self
+
+        def string(self, value):
+            self.put("I", len(value) + 1)
+            self.b += value.encode() + b"\x00"
+            return self
+
+        def header(self, stamp, frame):
+            return self.put("i", stamp).put("I", 0).string(frame)
+
+    def image(stamp):
+        c = Cdr().header(stamp, "cam").put("I", 3).put("I", 4).string("16UC1").put("B", 0).put("I", 8).put("I", 24)
+        c.b += struct.pack("<12H", *([1000] * 12))
+        return bytes(c.b)
+
+    info = Cdr().header(1, "cam").put("I", 3).put("I", 4).string("plumb_bob").put("I", 5)
+    for v in [0.0] * 5 + [2.0, 0.0, 1.5, 0.0, 2.0, 1.0, 0.0, 0.0, 1.0] + [0.0] * 21:
+        info.put("d", v)
+
+    def pose(stamp, x):
+        c = Cdr().header(stamp, "world")
+        for v in (x, 0.0, 0.5, 0.0, 0.0, 0.0, 1.0):
+            c.put("d", v)
+        return bytes(c.b)
+
+    def tf(stamp, parent, child, x):
+        c = Cdr().put("I", 1).header(stamp, parent).string(child)
+        for v in (x, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0):
+            c.put("d", v)
+        return bytes(c.b)
+
+    topics = [("/camera/depth/image_raw", "sensor_msgs/msg/Image"), ("/camera/depth/camera_info", "sensor_msgs/msg/CameraInfo"),
+              ("/camera/pose", "geometry_msgs/msg/PoseStamped"), ("/tf", "tf2_msgs/msg/TFMessage"),
+              ("/tf_static", "tf2_msgs/msg/TFMessage")]
+    out = b"\x89MCAP0\r\n" + record(1, text("ros2") + text("icrkit seeds"))
+    for i, (topic, schema) in enumerate(topics, 1):
+        out += record(3, struct.pack("<H", i) + text(schema) + text("ros2msg") + struct.pack("<I", 0))
+        out += record(4, struct.pack("<HH", i, i) + text(topic) + text("cdr") + struct.pack("<I", 0))
+
+    def message(channel, data):
+        return record(5, struct.pack("<HIQQ", channel, 0, 0, 0) + data)
+
+    records = message(2, bytes(info.b)) + message(5, tf(0, "base", "cam", 0.1))
+    for stamp in (1, 2):
+        records += message(3, pose(stamp, 0.01 * stamp)) + message(4, tf(stamp, "world", "base", 0.01 * stamp))
+        records += message(1, image(stamp))
+    import zlib
+    stored, name = (records, "") if compress is None else compress(records)
+    out += record(6, struct.pack("<QQQI", 0, 0, len(records), zlib.crc32(records)) + text(name) +
+                  struct.pack("<Q", len(stored)) + stored)
+    return out + record(0x0F, struct.pack("<I", 0)) + record(2, bytes(20)) + b"\x89MCAP0\r\n"
+
+
+put("mcap", "depth_pose_tf.mcap", mcap_bag())
+try:
+    import lz4.frame
+    put("mcap", "depth_pose_tf_lz4.mcap", mcap_bag(lambda data: (lz4.frame.compress(data), "lz4")))
+except ImportError:
+    pass
+
 # Regions against the targets' 8-vertex strip (record_targets.cpp).
 put("regions_json", "regions.json", json.dumps({"regions": [
     {"finger": 0, "contact": 1, "vertices": [0, 1, 2], "area_m2": 1e-4, "recommended": {"vertex": 1, "depth_m": 0.001}},

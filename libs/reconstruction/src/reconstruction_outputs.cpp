@@ -231,7 +231,10 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
   const auto& box = result.crop_box;
   Json record{
       {"input", input.input},
-      {"input_format", isDepthImageFolder(input.input) ? "tum_folder" : "rawlog"},
+      {"input_format", !input.input_format.empty()     ? input.input_format
+                       : isBag(input.input)              ? "ros2_bag"
+                       : isDepthImageFolder(input.input) ? "tum_folder"
+                                                         : "rawlog"},
       {"output", input.output},
       {"scans", n},
       {"poses", nullOr(params.pose_file)},
@@ -258,8 +261,10 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
       {"cloud_points", result.cloud.positions.size()},
       {"per_scan", scans}};
   if (params.make_meshes) {
-    record["raw_mesh"] = meshingJson(result.raw_meshing);
-    record["mesh_radii_m"] = record["raw_mesh"]["radii_m"];
+    if (params.make_raw_mesh) {
+      record["raw_mesh"] = meshingJson(result.raw_meshing);
+      record["mesh_radii_m"] = record["raw_mesh"]["radii_m"];
+    }
     record["filtered_mesh"] = meshingJson(result.filtered_meshing);
     record["smoothing"] = smoothingJson(result, params);
   }
@@ -283,7 +288,9 @@ void writeReconstructionFiles(const std::string& directory, const Reconstruction
   createDirectories(dir);
   io::writePointCloud((dir / "cloud.ply").string(), result.cloud);
   if (meshes) {
-    io::writeTriangleMesh((dir / "raw.ply").string(), result.raw_mesh);
+    // A result made without the raw baseline (make_raw_mesh) has no raw
+    // vertices; a made one has every fused point.
+    if (!result.raw_mesh.vertices.positions.empty()) io::writeTriangleMesh((dir / "raw.ply").string(), result.raw_mesh);
     io::writeTriangleMesh((dir / "filtered.ply").string(), result.filtered_mesh);
   }
   std::vector<StampedPose> poses;

@@ -25,6 +25,9 @@ struct ObservationConversion {
   bool unproject = true;
 };
 
+/// MRPT's camera (size, pinhole, plumb-bob distortion) of `intrinsics`.
+mrpt::img::TCamera toMrptCamera(const CameraIntrinsics& intrinsics);
+
 /// Checks and converts a loaded observation (images in memory). `source`
 /// and "scan `index`" name it in the InputError thrown for inconsistent
 /// sizes, non-positive focal lengths or units, or a pose that is not a

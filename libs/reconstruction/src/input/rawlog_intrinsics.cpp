@@ -1,5 +1,7 @@
 #include <icrkit/reconstruction/input/rawlog_intrinsics.hpp>
 
+#include "observation_scan.hpp"
+
 #include <icrkit/core/error.hpp>
 
 #include <mrpt/io/CFileGZInputStream.h>
@@ -21,13 +23,8 @@ void apply(mrpt::obs::CObservation3DRangeScan& obs, const CameraIntrinsics& k, c
                      "the range image is " + std::to_string(obs.rangeImage.cols()) + " x " +
                          std::to_string(obs.rangeImage.rows()) + ", the calibrated camera " + std::to_string(k.width) +
                          " x " + std::to_string(k.height));
-  mrpt::img::TCamera camera;
-  camera.ncols = static_cast<std::uint32_t>(k.width);
-  camera.nrows = static_cast<std::uint32_t>(k.height);
-  camera.setIntrinsicParamsFromValues(k.fx, k.fy, k.cx, k.cy);
-  camera.setDistortionPlumbBob(k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3], k.distortion[4]);
-  obs.cameraParams = camera;
-  obs.cameraParamsIntensity = camera;
+  obs.cameraParams = detail::toMrptCamera(k);
+  obs.cameraParamsIntensity = obs.cameraParams;
 }
 
 }  // namespace

@@ -103,6 +103,15 @@ Eigen::Vector3d opticalPoint(const RangeScan& scan, int row, int col, double ran
 
 namespace detail {
 
+mrpt::img::TCamera toMrptCamera(const CameraIntrinsics& k) {
+  mrpt::img::TCamera camera;
+  camera.ncols = static_cast<std::uint32_t>(k.width);
+  camera.nrows = static_cast<std::uint32_t>(k.height);
+  camera.setIntrinsicParamsFromValues(k.fx, k.fy, k.cx, k.cy);
+  camera.setDistortionPlumbBob(k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3], k.distortion[4]);
+  return camera;
+}
+
 RangeScan scanFromObservation(CObservation3DRangeScan& obs, std::size_t index, const std::string& path,
                               const ObservationConversion& conversion) {
   const std::string where = scanLocation(index);

@@ -5,14 +5,11 @@
 
 #include <icrkit/reconstruction/input/tum_folder_reader.hpp>
 
-#include "observation_scan.hpp"
+#include <icrkit/reconstruction/input/depth_image_scan.hpp>
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/pose.hpp>
 
-#include <mrpt/core/Clock.h>
-#include <mrpt/img/TCamera.h>
-#include <mrpt/obs/CObservation3DRangeScan.h>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -307,16 +304,6 @@ struct TumFolderReader::Impl {
     camera.intrinsics.height = height;
   }
 
-  mrpt::img::TCamera mrptCamera() const {
-    const CameraIntrinsics& k = camera.intrinsics;
-    mrpt::img::TCamera c;
-    c.ncols = static_cast<std::uint32_t>(k.width);
-    c.nrows = static_cast<std::uint32_t>(k.height);
-    c.setIntrinsicParamsFromValues(k.fx, k.fy, k.cx, k.cy);
-    c.setDistortionPlumbBob(k.distortion[0], k.distortion[1], k.distortion[2], k.distortion[3], k.distortion[4]);
-    return c;
-  }
-
   RangeScan convert(std::size_t index) {
     const DepthFrame& frame = frames[index];
     cv::Mat image = index == 0 && !first_image.empty() ? first_image : readDepthImage(frame, index);
@@ -327,31 +314,21 @@ struct TumFolderReader::Impl {
                            std::to_string(camera.intrinsics.height) + " depth image like the first frame, found " +
                            std::to_string(image.cols) + "x" + std::to_string(image.rows));
 
-    // The observation a depth camera driver would have recorded.
-    mrpt::obs::CObservation3DRangeScan obs;
-    obs.sensorLabel = "TUM_DEPTH";
-    obs.timestamp = mrpt::Clock::fromDouble(frame.timestamp);
-    obs.hasRangeImage = true;
-    obs.rangeImage_setSize(image.rows, image.cols);
-    for (int r = 0; r < image.rows; ++r) {
-      const auto* row = image.ptr<std::uint16_t>(r);
-      for (int c = 0; c < image.cols; ++c) obs.rangeImage(r, c) = row[c];
-    }
-    // Single precision, as MRPT stores rangeUnits: a rawlog converted from
-    // this folder then holds the very same ranges.
-    obs.rangeUnits = static_cast<float>(1.0 / camera.depth_scale);
-    obs.range_is_depth = true;
-    obs.maxRange = static_cast<float>(camera.max_range);
-    obs.cameraParams = mrptCamera();
-    obs.cameraParamsIntensity = obs.cameraParams;
-
-    detail::ObservationConversion conversion;
-    conversion.pose = &poses.sensor_poses[index];
-    conversion.pose_normalised = poses.normalised[index] != 0;
-    conversion.unproject = options.unproject;
-    RangeScan scan = detail::scanFromObservation(obs, index, frame.path, conversion);
-    // As listed, not through MRPT's 100 ns clock.
-    scan.timestamp = frame.timestamp;
+    DepthImageView view;
+    view.width = image.cols;
+    view.height = image.rows;
+    view.counts = image.ptr<std::uint16_t>(0);
+    view.depth_scale = camera.depth_scale;
+    view.row_stride = image.step1();
+    DepthImageMeta meta;
+    meta.intrinsics = camera.intrinsics;
+    meta.sensor_pose = poses.sensor_poses[index];
+    meta.pose_normalised = poses.normalised[index] != 0;
+    meta.timestamp = frame.timestamp;
+    meta.max_range = camera.max_range;
+    meta.sensor_label = "TUM_DEPTH";
+    meta.unproject = options.unproject;
+    RangeScan scan = scanFromDepthImage(view, meta, index, frame.path);
     return scan;
   }
 };

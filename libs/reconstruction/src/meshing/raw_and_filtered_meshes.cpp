@@ -23,16 +23,18 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
   if (!cloud.hasNormals()) throw InputError("point cloud", "", "the raw mesh needs normals; estimate them first");
   RawAndFilteredMeshes out;
   auto start = Clock::now();
-  report(progress, "raw mesh", 0, 1);
-  BallPivotingParameters raw_meshing = params.meshing;
-  if (!params.thin_raw_cloud) {
-    raw_meshing.thinning_factor = 0.0;
-    raw_meshing.fill_folded_holes = false;
+  if (params.make_raw) {
+    report(progress, "raw mesh", 0, 1);
+    BallPivotingParameters raw_meshing = params.meshing;
+    if (!params.thin_raw_cloud) {
+      raw_meshing.thinning_factor = 0.0;
+      raw_meshing.fill_folded_holes = false;
+    }
+    BallPivotingResult raw = ballPivoting(cloud, raw_meshing);
+    out.raw = std::move(raw.mesh);
+    out.raw_meshing = raw.report;
+    out.times.raw_mesh_ms = msSince(start);
   }
-  BallPivotingResult raw = ballPivoting(cloud, raw_meshing);
-  out.raw = std::move(raw.mesh);
-  out.raw_meshing = raw.report;
-  out.times.raw_mesh_ms = msSince(start);
 
   start = Clock::now();
   PointCloud smoothed = cloud;

@@ -34,10 +34,13 @@ GroundTruthPoses readGroundTruthPoses(const std::string& input, const std::strin
 
 /// What the record says beside the result and the parameters.
 struct ReconstructionRecordInput {
-  std::string input;                  ///< the rawlog or folder reconstructed
+  std::string input;                  ///< the rawlog, folder or bag reconstructed
   std::string output;                 ///< the output directory
   std::string range_correction_file;  ///< where params.range_correction came from; empty: none
   std::optional<GroundTruthPoses> ground_truth;
+  /// "rawlog", "tum_folder", "ros2_bag" or, for scans fed from memory,
+  /// "memory"; empty: told from `input`.
+  std::string input_format;
 };
 
 /// reconstruction.json as JSON text (keys sorted): the input, crop box,
@@ -52,7 +55,8 @@ struct ReconstructionRecordInput {
 std::string reconstructionRecordJson(const ReconstructionResult& result, const ReconstructionParameters& params,
                                      const ReconstructionRecordInput& record);
 
-/// Writes `directory`/cloud.ply, raw.ply and filtered.ply (when `meshes`)
+/// Writes `directory`/cloud.ply, raw.ply and filtered.ply (when `meshes`;
+/// raw.ply only when the result has a raw mesh)
 /// and poses.txt (TUM, the final poses in MRPT's sensor axes); with a
 /// `registration_input_directory` (needs result.registration_input) also
 /// its view_NNN.ply (each scan's object points, sensor frame) and start.txt

@@ -7,9 +7,9 @@
 /// pivoting on the fused cloud) and the filtered mesh (3D-NDT smoothing and
 /// preselection, then ball pivoting). See docs/reconstruction.md.
 ///
-/// The recording is streamed three times (poses, registration, fusion):
-/// memory holds one scan, the registration model and the fused cloud, never
-/// the recording.
+/// The recording is read once, scan by scan, into a Reconstructor
+/// (reconstructor.hpp), which keeps each scan's filtered points until the
+/// registration has placed them all.
 
 #include <icrkit/core/point_cloud.hpp>
 #include <icrkit/core/progress.hpp>
@@ -21,6 +21,7 @@
 #include <icrkit/reconstruction/calibration/range_calibration.hpp>
 #include <icrkit/reconstruction/calibration/board_lattice_pose.hpp>
 #include <icrkit/reconstruction/input/scan_filters.hpp>
+#include <icrkit/reconstruction/input/mcap_reader.hpp>
 #include <icrkit/reconstruction/input/scan_source.hpp>
 #include <icrkit/reconstruction/registration/scan_sequence_registration.hpp>
 
@@ -53,6 +54,8 @@ struct ReconstructionParameters {
   DepthCameraOptions depth_camera;
   double max_time_difference = kTumMaxTimeDifference;
   double rotation_tolerance = kReadRotationTolerance;
+  /// A ROS 2 bag's topics and frames (mcap_reader.hpp).
+  McapReaderOptions mcap;
 
   /// A ToF camera's systematic range error (range_calibration.hpp), removed
   /// from every scan before anything else; zero: none.
@@ -143,6 +146,9 @@ struct ReconstructionParameters {
   bool mesh_kept_points_only = false;
   /// false: stop after the fused cloud (no meshes).
   bool make_meshes = true;
+  /// false: the filtered mesh only (`raw_mesh` stays empty, raw.ply is not
+  /// written): what a robot grasps, a third sooner after the last scan.
+  bool make_raw_mesh = true;
   /// Keep each scan's object points (sensor frame) as handed to the
   /// registration, for comparisons with other registration tools on exactly
   /// the same input (`ReconstructionResult::registration_input`).
@@ -224,7 +230,8 @@ struct ReconstructionResult {
 /// "ReconstructionParameters::auto_crop_half_size") and what was expected.
 void validateReconstructionParameters(const ReconstructionParameters& params);
 
-/// Runs the pipeline on a rawlog or a TUM RGB-D folder (ScanReader).
+/// Runs the pipeline on a rawlog, a TUM RGB-D folder or a ROS 2 bag
+/// (ScanReader): its scans fed to a Reconstructor in order.
 /// Throws InputError naming the file and the scan for unreadable input (the
 /// readers' errors, a pose file with too few or unmatched poses, a scan
 /// without object points) and for bad parameters.

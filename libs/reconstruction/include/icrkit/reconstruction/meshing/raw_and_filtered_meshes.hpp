@@ -35,6 +35,9 @@ struct RawAndFilteredParameters {
   /// ball pivoting, so the filtered mesh has no excluded vertex (and holes
   /// where they were). false (default): they stay vertices, flagged.
   bool mesh_kept_points_only = false;
+  /// false: no raw mesh (the paper's baseline; a robot grasps the filtered
+  /// one): `raw` stays empty and the filtered mesh comes a third sooner.
+  bool make_raw = true;
 };
 
 struct RawAndFilteredTimes {

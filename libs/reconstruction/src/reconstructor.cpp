@@ -1,0 +1,415 @@
+#include <icrkit/reconstruction/reconstructor.hpp>
+
+#include <icrkit/core/error.hpp>
+#include <icrkit/core/kd_tree.hpp>
+#include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace icrkit::reconstruction {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
+  if (progress) progress(stage, done, total);
+}
+
+// One scan as kept between add() and update(): its filtered range image and
+// points. MRPT unprojects in single precision, so the points are kept as
+// floats whenever that loses nothing (everything but a range-corrected ToF
+// scan), which halves the largest part of the memory a stream costs.
+struct StoredScan {
+  RangeScan scan;  // `points` moved to `float_points` when exact
+  std::vector<Eigen::Vector3f> float_points;
+  bool points_as_float = false;
+  bool organised = true;
+  LatticePose board_pose;
+  ScanFilterRecord sensor_filters;  // what the filters of add() did
+
+  std::size_t bytes() const {
+    return scan.range.size() * sizeof(float) + scan.pixels.size() * sizeof(std::uint32_t) +
+           scan.points.size() * sizeof(Eigen::Vector3d) + float_points.size() * sizeof(Eigen::Vector3f);
+  }
+
+  RangeScan restore() const {
+    RangeScan copy = scan;
+    if (points_as_float) {
+      copy.points.resize(float_points.size());
+      for (std::size_t k = 0; k < float_points.size(); ++k) copy.points[k] = float_points[k].cast<double>();
+    }
+    return copy;
+  }
+};
+
+bool exactInFloat(const std::vector<Eigen::Vector3d>& points) {
+  for (const Eigen::Vector3d& p : points)
+    for (int k = 0; k < 3; ++k)
+      if (static_cast<double>(static_cast<float>(p[k])) != p[k]) return false;
+  return true;
+}
+
+// Cropping and support-plane removal only decide which of a scan's points
+// belong to the object (`object`, one flag per point): every point left by
+// the sensor filters still carves free space in the fusion.
+void selectObjectPoints(const RangeScan& scan, const ReconstructionParameters& params, const Eigen::AlignedBox3d& box,
+                        std::vector<std::uint8_t>& object, ScanFilterRecord& record) {
+  RangeScan cropped = scan;
+  record.removed_crop = filterCropBox(cropped, box).removed;
+  if (params.remove_support_plane) {
+    PlaneRemovalParameters plane = params.support_plane;
+    // The table or plate lies somewhere in the box's lower half.
+    plane.band = 0.5 * box.sizes().z();
+    const PlaneRemovalReport removal = removeSupportPlane(cropped, box, plane);
+    record.removed_plane = removal.removed;
+    record.plane_found = removal.found;
+  }
+  const std::size_t pixel_count = static_cast<std::size_t>(scan.width) * static_cast<std::size_t>(scan.height);
+  std::vector<std::uint8_t> kept_pixel(pixel_count, 0);
+  for (std::uint32_t pixel : cropped.pixels) kept_pixel[pixel] = 1;
+  object.assign(scan.points.size(), 0);
+  for (std::size_t k = 0; k < scan.points.size(); ++k) object[k] = kept_pixel[scan.pixels[k]];
+  record.object_points = cropped.points.size();
+}
+
+// The object's points in the sensor's own frame (the registration's input).
+PointCloud objectPointsInSensorFrame(const RangeScan& scan, const std::vector<std::uint8_t>& object) {
+  PointCloud cloud;
+  const Eigen::Isometry3d to_sensor = scan.sensor_pose.inverse();
+  for (std::size_t k = 0; k < scan.points.size(); ++k)
+    if (object[k]) cloud.positions.push_back(to_sensor * scan.points[k]);
+  return cloud;
+}
+
+}  // namespace
+
+struct Reconstructor::Impl {
+  ReconstructionParameters params;
+  std::string source;
+  std::vector<StoredScan> scans;
+  std::string pose_matching = "recorded";
+  std::optional<DepthCamera> camera;
+  std::size_t poses_orthonormalised = 0;
+  double add_filter_ms = 0.0;
+  double add_read_ms = 0.0;
+  double add_board_ms = 0.0;
+  std::optional<ReconstructionResult> result;
+
+  std::string where(std::size_t i) const { return "scan " + std::to_string(i); }
+
+  void store(RangeScan scan, bool organised, double convert_ms) {
+    result.reset();
+    add_read_ms += convert_ms;
+    StoredScan stored;
+    stored.organised = organised;
+    scan.index = scans.size();
+    // The board is found in the scan as read, before any filter touches it.
+    if (params.board) {
+      const auto start = Clock::now();
+      stored.board_pose = latticeCameraPose(scan, *params.board, params.board_detection);
+      add_board_ms += msSince(start);
+    }
+    const auto start = Clock::now();
+    ScanFilterRecord& record = stored.sensor_filters;
+    record.index = scan.index;
+    record.timestamp = scan.timestamp;
+    correctRange(scan, params.range_correction);
+    record.valid_pixels = scan.validPixels();
+    record.removed_confidence = filterConfidence(scan, params.confidence).removed;
+    if (params.jump_edge_filter && organised) record.removed_jump_edges = filterJumpEdges(scan, params.jump_edges).removed;
+    record.removed_range = filterRange(scan, params.range).removed;
+    add_filter_ms += msSince(start);
+    poses_orthonormalised += scan.pose_orthonormalised;
+    // Only the range image, the points and their pixels are used from here on.
+    scan.intensity = Image8{};
+    scan.confidence = Image8{};
+    if (exactInFloat(scan.points)) {
+      stored.float_points.reserve(scan.points.size());
+      for (const Eigen::Vector3d& p : scan.points) stored.float_points.push_back(p.cast<float>());
+      stored.points_as_float = true;
+      std::vector<Eigen::Vector3d>().swap(scan.points);
+    }
+    stored.scan = std::move(scan);
+    scans.push_back(std::move(stored));
+  }
+
+  ReconstructionResult compute(const ProgressCallback& progress) const;
+};
+
+Reconstructor::Reconstructor(ReconstructionParameters params, std::string source) : impl_(std::make_unique<Impl>()) {
+  validateReconstructionParameters(params);
+  impl_->params = std::move(params);
+  impl_->source = std::move(source);
+}
+
+Reconstructor::~Reconstructor() = default;
+Reconstructor::Reconstructor(Reconstructor&&) noexcept = default;
+Reconstructor& Reconstructor::operator=(Reconstructor&&) noexcept = default;
+
+void Reconstructor::add(RangeScan scan) {
+  const std::size_t i = impl_->scans.size();
+  if (scan.width <= 0 || scan.height <= 0 ||
+      scan.range.size() != static_cast<std::size_t>(scan.width) * static_cast<std::size_t>(scan.height))
+    throw InputError(impl_->source, impl_->where(i), "expected a range image of width x height values");
+  if (scan.points.size() != scan.pixels.size())
+    throw InputError(impl_->source, impl_->where(i), "expected one pixel per point");
+  for (std::size_t k = 0; k < scan.points.size(); ++k) {
+    if (!scan.points[k].allFinite())
+      throw InputError(impl_->source, impl_->where(i) + " point " + std::to_string(k), "non-finite coordinate");
+    if (scan.pixels[k] >= scan.range.size())
+      throw InputError(impl_->source, impl_->where(i) + " point " + std::to_string(k),
+                       "its pixel lies outside the range image");
+  }
+  if (!scan.sensor_pose.matrix().allFinite())
+    throw InputError(impl_->source, impl_->where(i), "non-finite sensor pose");
+  impl_->store(std::move(scan), true, 0.0);
+}
+
+void Reconstructor::addDepthImage(const DepthImageView& image, const DepthImageMeta& meta) {
+  const auto start = Clock::now();
+  if (!meta.sensor_pose.matrix().allFinite())
+    throw InputError(impl_->source, impl_->where(impl_->scans.size()), "non-finite camera pose");
+  DepthImageMeta unprojected = meta;
+  unprojected.unproject = true;
+  RangeScan scan = scanFromDepthImage(image, unprojected, impl_->scans.size(), impl_->source);
+  impl_->store(std::move(scan), true, msSince(start));
+}
+
+void Reconstructor::addPoints(const std::vector<Eigen::Vector3d>& points, const PointScanMeta& meta) {
+  const auto start = Clock::now();
+  const std::size_t i = impl_->scans.size();
+  if (!meta.optical_pose.matrix().allFinite())
+    throw InputError(impl_->source, impl_->where(i), "non-finite camera pose");
+  RangeScan scan;
+  scan.timestamp = meta.timestamp;
+  scan.sensor_label = "POINTS";
+  scan.sensor_pose = opticalToSensorPose(meta.optical_pose);
+  // One row of "pixels", one per point, each holding the point's distance
+  // along its ray: the range gate and the fusion's rays read it so.
+  scan.range_is_depth = false;
+  scan.max_range = meta.max_range;
+  scan.camera.fx = scan.camera.fy = 1.0;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector3d& p = points[k];
+    if (std::isinf(p.x()) || std::isinf(p.y()) || std::isinf(p.z()))
+      throw InputError(impl_->source, impl_->where(i) + " point " + std::to_string(k),
+                       "infinite coordinate (NaN marks no return)");
+    if (!p.allFinite()) continue;
+    const double distance = p.norm();
+    if (!(distance > 0)) continue;
+    scan.range.push_back(static_cast<float>(distance));
+    scan.pixels.push_back(static_cast<std::uint32_t>(scan.points.size()));
+    scan.points.push_back(meta.optical_pose * p);
+  }
+  scan.width = static_cast<int>(scan.range.size());
+  scan.height = 1;
+  if (scan.width == 0) throw InputError(impl_->source, impl_->where(i), "no finite point");
+  scan.camera.width = scan.width;
+  scan.camera.height = 1;
+  scan.camera_intensity = scan.camera;
+  impl_->store(std::move(scan), false, msSince(start));
+}
+
+std::size_t Reconstructor::scanCount() const { return impl_->scans.size(); }
+
+void Reconstructor::setInputDescription(std::string pose_matching, std::optional<DepthCamera> camera) {
+  impl_->pose_matching = std::move(pose_matching);
+  impl_->camera = std::move(camera);
+  if (impl_->result) {
+    impl_->result->pose_matching = impl_->pose_matching;
+    impl_->result->depth_camera = impl_->camera;
+  }
+}
+
+const ReconstructionResult& Reconstructor::update(const ProgressCallback& progress) {
+  if (!impl_->result) impl_->result = impl_->compute(progress);
+  return *impl_->result;
+}
+
+bool Reconstructor::upToDate() const { return impl_->result.has_value(); }
+
+ReconstructionResult Reconstructor::takeResult(const ProgressCallback& progress) {
+  update(progress);
+  ReconstructionResult out = std::move(*impl_->result);
+  impl_->result.reset();
+  return out;
+}
+
+std::size_t Reconstructor::storedBytes() const {
+  std::size_t bytes = 0;
+  for (const StoredScan& s : impl_->scans) bytes += s.bytes();
+  return bytes;
+}
+
+ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progress) const {
+  const auto total_start = Clock::now();
+  ReconstructionResult result;
+  ReconstructionTimes& times = result.times;
+  times.read_ms = add_read_ms;
+  times.filter_ms = add_filter_ms;
+  times.registration_ms = add_board_ms;
+  result.pose_matching = pose_matching;
+  result.depth_camera = camera;
+  result.poses_orthonormalised = poses_orthonormalised;
+  const std::size_t n = scans.size();
+  if (n == 0) throw InputError(source, "", "no scans to reconstruct");
+  for (const StoredScan& s : scans) {
+    result.reported_poses.push_back(s.scan.sensor_pose);
+    result.timestamps.push_back(s.scan.timestamp);
+  }
+
+  if (params.crop_box) {
+    result.crop_box = *params.crop_box;
+  } else {
+    const std::optional<Eigen::Vector3d> centre = convergencePoint(result.reported_poses);
+    const bool one_pose = n > 1 && std::all_of(result.reported_poses.begin(), result.reported_poses.end(),
+                                               [&](const Eigen::Isometry3d& p) {
+                                                 return p.isApprox(result.reported_poses.front(), 1e-12);
+                                               });
+    if (!centre && one_pose)
+      throw InputError(source, "",
+                       "every view has the same pose (a depth folder read without a pose file has none): "
+                       "give the camera poses (ReconstructionParameters::pose_file, a TUM file) or the "
+                       "object's region (ReconstructionParameters::crop_box)");
+    if (!centre)
+      throw InputError(source, "", "cannot place the crop box: the views' optical axes do not converge on an object "
+                                   "(give the object's region explicitly)");
+    const Eigen::Vector3d half = Eigen::Vector3d::Constant(params.auto_crop_half_size);
+    result.crop_box = Eigen::AlignedBox3d(*centre - half, *centre + half);
+    result.crop_box_automatic = true;
+  }
+
+  // The object's points of every scan, and their registration.
+  std::vector<std::vector<std::uint8_t>> objects(n);
+  std::optional<SequenceRegistration> registration;
+  if (params.register_scans) registration.emplace(params.registration);
+  for (std::size_t i = 0; i < n; ++i) {
+    const StoredScan& stored = scans[i];
+    auto start = Clock::now();
+    const RangeScan scan = stored.restore();
+    ScanFilterRecord& record = result.filters.emplace_back(stored.sensor_filters);
+    selectObjectPoints(scan, params, result.crop_box, objects[i], record);
+    times.filter_ms += msSince(start);
+    std::optional<PosePrior> board_prior;
+    if (params.board) {
+      const LatticePose& board_pose = stored.board_pose;
+      bool rejected = false;
+      if (board_pose.found) {
+        const Eigen::Isometry3d change = scan.sensor_pose.inverse() * board_pose.sensor_pose;
+        rejected = change.translation().norm() > 0.5 * params.board->square_size ||
+                   Eigen::AngleAxisd(change.rotation()).angle() > params.board_max_rotation;
+      }
+      if (board_pose.found && !rejected) {
+        board_prior =
+            PosePrior{board_pose.sensor_pose, params.board_prior_sigma_translation, params.board_prior_sigma_rotation};
+        ++result.poses_from_board;
+      }
+      result.board_poses.push_back(board_pose);
+      result.board_pose_rejected.push_back(rejected ? 1 : 0);
+    }
+    if (record.object_points == 0)
+      throw InputError(source, where(i),
+                       "no points left inside the crop box after filtering (check the crop box and the poses)");
+    if (i == 0) {
+      std::vector<Eigen::Vector3d> object_points;
+      for (std::size_t k = 0; k < scan.points.size(); ++k)
+        if (objects[i][k]) object_points.push_back(scan.points[k]);
+      result.scan_spacing_m = nearestNeighbourSpacing(object_points).median;
+    }
+    if (registration) {
+      start = Clock::now();
+      PointCloud points = objectPointsInSensorFrame(scan, objects[i]);
+      registration->add(points, scan.sensor_pose, board_prior);
+      if (params.keep_registration_input) result.registration_input.push_back(std::move(points));
+      times.registration_ms += msSince(start);
+    }
+    report(progress, "registration", i + 1, n);
+  }
+  if (registration) {
+    const auto start = Clock::now();
+    result.registration = registration->finish();
+    registration.reset();
+    result.poses = result.registration.poses;
+    times.registration_ms += msSince(start);
+  } else {
+    result.poses = result.reported_poses;
+  }
+
+  // Fusion of the whole scans at their registered poses.
+  {
+    OctreeFusionParameters fusion_params = params.fusion;
+    fusion_params.bounds = result.crop_box;
+    OctreeFusion fusion(fusion_params);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto start = Clock::now();
+      RangeScan scan = scans[i].restore();
+      const Eigen::Isometry3d correction = result.poses[i] * scan.sensor_pose.inverse();
+      for (Eigen::Vector3d& p : scan.points) p = correction * p;
+      scan.sensor_pose = result.poses[i];
+      fusion.insert(scan, objects[i]);
+      times.fusion_ms += msSince(start);
+      report(progress, "fusion", i + 1, n);
+    }
+    const auto start = Clock::now();
+    OctreeFusionResult fused = fusion.finish();
+    times.fusion_ms += msSince(start);
+    result.cloud = std::move(fused.points);
+    result.fusion = fused.report;
+  }
+  if (result.cloud.positions.size() < 3)
+    throw InputError(source, "", "only " + std::to_string(result.cloud.positions.size()) +
+                                     " points survived the fusion: nothing to reconstruct");
+
+  // Each point's sensor, for the raw normals and the smoothed ones (the
+  // smoothing keeps the point order).
+  const std::vector<Eigen::Vector3d> viewpoints = fusionViewpoints(result.cloud);
+  {
+    const auto start = Clock::now();
+    report(progress, "normals", 0, 1);
+    ndt::NormalEstimationParameters normals = params.normals;
+    // Like the smoothing window: a multiple of one scan's spacing. The fused
+    // cloud's own spacing is many times finer (every view adds points) while
+    // its noise layer is as thick as one scan's noise, so a window scaled to
+    // it sees noise, not the surface (raw normals 40-45 deg off the CAD
+    // normals on the Kinect datasets).
+    if (normals.radius.relative && result.scan_spacing_m > 0)
+      normals.radius = Length::metres(normals.radius.metresFor(result.scan_spacing_m));
+    normals.viewpoints = viewpoints;
+    result.normals = ndt::estimateNormals(result.cloud, normals);
+    times.normals_ms = msSince(start);
+  }
+  if (params.make_meshes) {
+    RawAndFilteredParameters meshing;
+    meshing.smoothing = params.smoothing;
+    // The smoothing window, like the normals', is a multiple of one scan's
+    // spacing (see ReconstructionParameters::smoothing).
+    meshing.reference_spacing = result.scan_spacing_m;
+    meshing.meshing = params.meshing;
+    meshing.thin_raw_cloud = params.thin_raw_cloud;
+    meshing.mesh_kept_points_only = params.mesh_kept_points_only;
+    meshing.make_raw = params.make_raw_mesh;
+    RawAndFilteredMeshes meshes = meshRawAndFiltered(result.cloud, meshing, viewpoints, progress);
+    result.raw_mesh = std::move(meshes.raw);
+    result.raw_meshing = meshes.raw_meshing;
+    result.filtered_mesh = std::move(meshes.filtered);
+    result.filtered_meshing = meshes.filtered_meshing;
+    result.smoothing = meshes.smoothing;
+    result.dropped_excluded = meshes.dropped_excluded;
+    times.raw_mesh_ms = meshes.times.raw_mesh_ms;
+    times.smoothing_ms = meshes.times.smoothing_ms;
+    times.filtered_mesh_ms = meshes.times.filtered_mesh_ms;
+  }
+  times.total_ms = add_read_ms + add_filter_ms + add_board_ms + msSince(total_start);
+  return result;
+}
+
+}  // namespace icrkit::reconstruction
