@@ -19,7 +19,7 @@ work="$build/fuzz"
 mkdir -p "$work"
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(ply obj pcd xyz rawlog tum_depth_list tum_poses camera_json range_model_json regions_json grasps_jsonl plan_json)
+  targets=(ply obj pcd xyz rawlog mcap tum_depth_list tum_poses camera_json range_model_json regions_json grasps_jsonl plan_json)
 fi
 /usr/bin/python3 "$here/make_seeds.py" "$work/seeds" "${ICRKIT_DATA:-$here/../../../shared/data}"
 # Temporary files of the path readers go to a folder of this run.
@@ -28,7 +28,7 @@ mkdir -p "$TMPDIR"
 
 max_len() {  # as fuzz_targets.cpp sizes them
   case "$1" in
-    ply|pcd) echo 262144 ;; obj|xyz|plan_json) echo 65536 ;; rawlog) echo 2097152 ;;
+    ply|pcd) echo 262144 ;; obj|xyz|plan_json|mcap) echo 65536 ;; rawlog) echo 2097152 ;;
     camera_json) echo 4096 ;; *) echo 16384 ;;
   esac
 }
