@@ -11,6 +11,7 @@
 #include <icrkit/core/io/file_format.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/ndt/smoothing.hpp>
+#include <icrkit/reconstruction/fusion/octree_fusion.hpp>
 
 #include <cmath>
 #include <memory>
@@ -62,9 +63,12 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
   const double read_start = context.elapsedMs();
   PointCloud cloud = io::readPointCloud(options.input);
   const double read_ms = context.elapsedMs() - read_start;
+  // A fused cloud knows each point's sensor: its normals face it.
+  ndt::SmoothingParameters run = params;
+  if (!run.viewpoint) run.viewpoints = reconstruction::fusionViewpoints(cloud);
 
   const ndt::SmoothingReport s = renamingInputErrors(
-      "point cloud", options.input, [&] { return ndt::smoothPointCloud(cloud, params, context.progress()); });
+      "point cloud", options.input, [&] { return ndt::smoothPointCloud(cloud, run, context.progress()); });
 
   const double write_start = context.elapsedMs();
   io::writePointCloud(options.output, cloud);
@@ -72,6 +76,7 @@ nlohmann::json smooth(const SmoothOptions& options, CommandContext& context) {
 
   nlohmann::json viewpoint = nullptr;
   if (params.viewpoint) viewpoint = {params.viewpoint->x(), params.viewpoint->y(), params.viewpoint->z()};
+  if (!run.viewpoints.empty()) viewpoint = "per point (viewpoint_x/y/z)";
   const nlohmann::json preselection = preselectionJson(s.preselection, params.preselection.cardinality_threshold.has_value(),
                                                        params.preselection.flatness_threshold.has_value());
   nlohmann::json summary{
@@ -129,7 +134,8 @@ void addSmoothCommand(CLI::App& app, CommandRunner& runner) {
   command->add_option("--flatness-threshold", options->flatness_threshold,
                       "Exclude points whose flatness sqrt(l2/l3) is lower (default: the rule's own threshold)");
   command->add_option("--viewpoint", options->viewpoint,
-                      "Sensor position x,y,z (metres): normals point towards it (default: outwards from the "
+                      "Sensor position x,y,z (metres): normals point towards it (default: a fused cloud's normals "
+                      "face each point's own sensor, its viewpoint_x/y/z; other clouds' point outwards from the "
                       "centroid, made consistent over neighbours)");
   addWindowNormalAngleOption(*command, options->window_normal_angle);
   command->callback([&runner, options] {

@@ -12,6 +12,7 @@
 #include <icrkit/icr/patch_contacts.hpp>
 #include <icrkit/ndt/preselection.hpp>
 #include <icrkit/ndt/smoothing.hpp>
+#include <icrkit/reconstruction/fusion/octree_fusion.hpp>
 #include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 
@@ -163,6 +164,8 @@ void bindAlgorithms(py::module_& m) {
           if (viewpoint->size() != 3) throw py::value_error("viewpoint: expected (x, y, z)");
           params.viewpoint = Eigen::Vector3d((*viewpoint)[0], (*viewpoint)[1], (*viewpoint)[2]);
         }
+        // A fused cloud knows each point's sensor: its normals face it.
+        if (!params.viewpoint) params.viewpoints = reconstruction::fusionViewpoints(cloud);
         {
           py::gil_scoped_release release;
           ndt::smoothPointCloud(cloud, params);
@@ -175,7 +178,8 @@ void bindAlgorithms(py::module_& m) {
       "The 3D-NDT smoothing layer (Krug et al., Algorithm 1) and preselection. `points`: (N, 3) float64 metres or a "
       "PointCloud. `radius` in metres (None: radius_factor x the median spacing). `window_normal_angle` (radians, "
       "needs normals): windows keep only points whose normal is within it of their centre's (one-sided windows for "
-      "thin walls; pi: the paper's window). Returns a new PointCloud with the "
+      "thin walls; pi: the paper's window). Without `viewpoint`, a fused cloud's normals face each point's own "
+      "sensor (its viewpoint_x/y/z attributes). Returns a new PointCloud with the "
       "smoothed points, v3 normals and the attributes cardinality, flatness, displacement (m), normal_sigma (rad), "
       "position_sigma (m) and excluded (unless preselection='none'). docs/smoothing.md.");
 

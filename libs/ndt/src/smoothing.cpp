@@ -188,7 +188,12 @@ SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& p
   // Without a viewpoint, normals are oriented over a neighbour graph; the
   // last pass's windows hold each point's nearest neighbours already, so the
   // graph costs no second k-d tree and no k-NN queries.
-  const std::size_t graph_slots = params.viewpoint ? 0 : NormalOrientationParameters{}.neighbours;
+  if (!params.viewpoints.empty() && params.viewpoints.size() != n)
+    throw InputError("SmoothingParameters::viewpoints", "",
+                     "expected one viewpoint per point (" + std::to_string(n) + "), got " +
+                         std::to_string(params.viewpoints.size()));
+  const bool own_sensors = !params.viewpoint && !params.viewpoints.empty();
+  const std::size_t graph_slots = params.viewpoint || own_sensors ? 0 : NormalOrientationParameters{}.neighbours;
   NeighbourGraph graph;
   // The sides come from the input normals in every pass: later passes'
   // v3 estimates are made from one-sided windows already.
@@ -219,10 +224,14 @@ SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& p
     for (std::size_t i = 0; i < n; ++i)
       if (normals[i].squaredNorm() == 0.0) normals[i] = cloud.normals[i];
   cloud.normals = std::move(normals);
-  if (params.viewpoint)
+  if (params.viewpoint) {
     orientNormals(cloud, params.viewpoint);
-  else
+  } else if (own_sensors) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (cloud.normals[i].dot(params.viewpoints[i] - cloud.positions[i]) < 0) cloud.normals[i] = -cloud.normals[i];
+  } else {
     orientNormalsOverGraph(cloud, graph);
+  }
 
   // Serial sums in index order: the same bits whatever the thread count.
   double displacement_sum = 0;

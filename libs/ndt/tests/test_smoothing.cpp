@@ -96,6 +96,43 @@ TEST(Smoothing, LeavesAnExactPlaneOnThePlane) {
 // 1.5 mm apart, normals facing away from each other, a 4 mm window): the
 // paper's window pulls each side nearly half way to the other; a one-sided
 // window keeps each side on its own plane.
+TEST(Smoothing, NormalsFaceEachPointsOwnSensor) {
+  // The inside of a bowl (a cup's floor) seen from above: its surface faces
+  // the sensor, i.e. towards the sphere's centre, where "outwards from the
+  // centroid" turns every normal the other way. Each point's own sensor
+  // says which way it faces.
+  const double radius = 0.05;
+  PointCloud bowl;
+  std::vector<Eigen::Vector3d> sensors;
+  for (int i = 1; i <= 25; ++i)
+    for (int j = 0; j < 60; ++j) {
+      const double polar = 0.6 * i / 25.0, azimuth = 2.0 * M_PI * j / 60.0;
+      const Eigen::Vector3d p(radius * std::sin(polar) * std::cos(azimuth),
+                              radius * std::sin(polar) * std::sin(azimuth), -radius * std::cos(polar));
+      bowl.positions.push_back(p);
+      bowl.normals.push_back(-p / radius);
+      sensors.emplace_back(0.0, 0.0, 0.3);
+    }
+  SmoothingParameters params;
+  params.radius = Length::metres(6e-3);
+  params.preselection.rule = PreselectionRule::None;
+  auto facing = [&](const PointCloud& smoothed) {
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < bowl.size(); ++i) count += smoothed.normals[i].dot(bowl.normals[i]) > 0.9;
+    return count;
+  };
+  PointCloud by_graph = bowl;
+  smoothPointCloud(by_graph, params);
+  EXPECT_EQ(facing(by_graph), 0u);  // the graph's guess, for contrast
+  params.viewpoints = sensors;
+  PointCloud by_sensor = bowl;
+  smoothPointCloud(by_sensor, params);
+  EXPECT_EQ(facing(by_sensor), bowl.size());
+  params.viewpoints.pop_back();
+  PointCloud wrong = bowl;
+  EXPECT_THROW(smoothPointCloud(wrong, params), InputError);
+}
+
 TEST(Smoothing, OneSidedWindowsKeepTheTwoSidesOfAThinWallApart) {
   const SyntheticCloud top = test::makePlane(40, kSpacing, 0.0, 1);
   PointCloud wall;

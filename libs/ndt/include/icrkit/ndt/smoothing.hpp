@@ -24,6 +24,7 @@
 #include <cstddef>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 namespace icrkit::ndt {
 
@@ -37,8 +38,14 @@ struct SmoothingParameters {
   /// Rule none: no `excluded` attribute is written.
   PreselectionParameters preselection;
   /// Normals (v3) point towards this sensor position when given, else
-  /// outwards from the centroid, made consistent over the neighbour graph.
+  /// towards each point's own sensor when `viewpoints` (one per point) are
+  /// given, else outwards from the centroid, made consistent over the
+  /// neighbour graph.
   std::optional<Eigen::Vector3d> viewpoint;
+  /// Per point: the sensor that saw it (a fused cloud's viewpoint_x/y/z).
+  /// The graph orientation cannot know which side of a thin wall or of a
+  /// sharp crease faces out; the sensor that saw the point can.
+  std::vector<Eigen::Vector3d> viewpoints;
   /// l3 is floored at this fraction of l2, capping the flatness at
   /// 1 / sqrt(floor) = 100. Real sensor noise stays far from the cap (a 4 mm
   /// window would need a noise thickness below 0.02 mm); exactly coplanar
