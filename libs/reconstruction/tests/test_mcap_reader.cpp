@@ -14,6 +14,8 @@
 #include <icrkit/reconstruction/input/mcap_reader.hpp>
 #include <icrkit/reconstruction/input/scan_source.hpp>
 
+#include <icrkit/reconstruction/reconstruction_outputs.hpp>
+
 #include <gtest/gtest.h>
 #include <lz4frame.h>
 #include <zstd.h>
@@ -518,6 +520,43 @@ TEST(McapReader, PoseGapNamesThePoseTopicAndTheImage) {
   options.pose_topic = "/no/such/topic";
   const InputError missing = expectInputError([&] { McapReader reader(path, options); });
   EXPECT_EQ(missing.location(), "topic /no/such/topic");
+}
+
+TEST(McapReader, GroundTruthOfABagIsMatchedToItsImageStamps) {
+  TestBag bag = threeImageBag();
+  bag.message(kPose, poseMessage(0.0, Eigen::Vector3d(0, 0, 0), Eigen::Quaterniond::Identity()));
+  bag.message(kPose, poseMessage(2.0, Eigen::Vector3d(2, 4, 0),
+                                 Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()))),
+              true);
+  const std::string path = bag.write(bagPath("ground_truth"));
+  ReconstructionParameters params;
+  params.mcap.pose_topic = kPose;
+  params.mcap.max_time_difference = 1.0;
+  // The truth: the images' optical poses shifted by 1 cm, two per image
+  // stamp's neighbourhood so that it is matched by stamp, not by order.
+  const std::string truth = (std::filesystem::path(path).parent_path() / "truth.txt").string();
+  {
+    std::ofstream out(truth);
+    out.precision(17);
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Quaterniond q(Eigen::AngleAxisd(M_PI / 4 * i, Eigen::Vector3d::UnitZ()));
+      out << i - 0.5 << " 9 9 9 0 0 0 1\n";
+      out << i << " " << i + 0.01 << " " << 2.0 * i << " 0 " << q.x() << " " << q.y() << " " << q.z() << " " << q.w()
+          << "\n";
+    }
+  }
+  const GroundTruthPoses read = readGroundTruthPoses(path, truth, params);
+  ASSERT_EQ(read.poses.size(), 3u);
+  McapReaderOptions options = params.mcap;
+  McapReader reader(path, options);
+  for (int i = 0; i < 3; ++i) {
+    const RangeScan scan = *reader.next();
+    EXPECT_DOUBLE_EQ(read.poses[static_cast<std::size_t>(i)].timestamp, scan.timestamp);
+    Eigen::Isometry3d expected = scan.sensor_pose;
+    expected.translation().x() += 0.01;
+    EXPECT_LT((read.poses[static_cast<std::size_t>(i)].pose.matrix() - expected.matrix()).cwiseAbs().maxCoeff(), 1e-9)
+        << "image " << i;
+  }
 }
 
 TEST(ScanReader, OpensBagsByTheirMagic) {

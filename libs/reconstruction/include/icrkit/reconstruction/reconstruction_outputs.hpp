@@ -25,7 +25,8 @@ struct GroundTruthPoses {
 
 /// Reads the ground truth `file` of the recording `input`: for a rawlog a
 /// TUM file in MRPT's sensor axes, pose i for scan i; for a TUM RGB-D folder
-/// a TUM file in the camera's optical axes, matched to the folder's frames
+/// or a ROS 2 bag a TUM file in the camera's optical axes, matched to the
+/// folder's frames or the bag's image stamps
 /// like ReconstructionParameters::pose_file (by order or time stamp, with
 /// params.depth_camera and params.max_time_difference). Read before the
 /// long run, a bad file fails at once: InputError naming it and the line.

@@ -458,6 +458,11 @@ std::size_t McapReader::scansRead() const {
 std::size_t McapReader::scanCount() const {
   return impl_->images.size();
 }
+std::vector<double> McapReader::imageStamps() const {
+  std::vector<double> stamps;
+  for (const ImageEntry& image : impl_->images) stamps.push_back(image.stamp);
+  return stamps;
+}
 const std::string& McapReader::path() const {
   return impl_->path();
 }

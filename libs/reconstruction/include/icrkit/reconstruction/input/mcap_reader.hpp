@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace icrkit::reconstruction {
 
@@ -76,6 +77,8 @@ class McapReader {
   std::size_t scansRead() const;
   /// The number of depth images.
   std::size_t scanCount() const;
+  /// Their header stamps (seconds), in the order next() returns them.
+  std::vector<double> imageStamps() const;
   const std::string& path() const;
   /// intrinsics (the CameraInfo's, or the options'), the images' size,
   /// depth_scale (16UC1 counts per metre) and where they came from;
