@@ -85,14 +85,6 @@ py::dict meshingReport(const reconstruction::BallPivotingReport& r) {
                   py::arg("closed_holes") = r.closed_holes, py::arg("folded_holes") = r.folded_holes);
 }
 
-py::array_t<double> posesArray(const std::vector<Eigen::Isometry3d>& poses) {
-  py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{4}, py::ssize_t{4}});
-  auto view = out.mutable_unchecked<3>();
-  for (std::size_t k = 0; k < poses.size(); ++k)
-    for (int i = 0; i < 4; ++i)
-      for (int j = 0; j < 4; ++j) view(static_cast<py::ssize_t>(k), i, j) = poses[k].matrix()(i, j);
-  return out;
-}
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <icrkit/core/point_cloud.hpp>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -55,6 +56,16 @@ inline py::array_t<double> copyOf(const std::vector<Eigen::Vector3d>& vectors) {
   auto* data = out.mutable_data();
   for (std::size_t i = 0; i < vectors.size(); ++i)
     for (int k = 0; k < 3; ++k) data[3 * i + static_cast<std::size_t>(k)] = vectors[i][k];
+  return out;
+}
+
+/// Poses as a new (K, 4, 4) float64 array.
+inline py::array_t<double> posesArray(const std::vector<Eigen::Isometry3d>& poses) {
+  py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{4}, py::ssize_t{4}});
+  auto view = out.mutable_unchecked<3>();
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) view(static_cast<py::ssize_t>(k), i, j) = poses[k].matrix()(i, j);
   return out;
 }
 

@@ -95,17 +95,6 @@ struct PyReconstructor {
   }
 };
 
-py::array_t<double> posesArray(const std::vector<Eigen::Isometry3d>& poses, bool optical) {
-  py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t{4}, py::ssize_t{4}});
-  auto view = out.mutable_unchecked<3>();
-  for (std::size_t k = 0; k < poses.size(); ++k) {
-    Eigen::Isometry3d pose = poses[k];
-    if (optical) pose.linear() = pose.linear() * reconstruction::mrptSensorAxesInOptical().transpose();
-    for (int i = 0; i < 4; ++i)
-      for (int j = 0; j < 4; ++j) view(static_cast<py::ssize_t>(k), i, j) = pose.matrix()(i, j);
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -120,7 +109,7 @@ void bindReconstructor(py::module_& m) {
           stamps.mutable_at(static_cast<py::ssize_t>(i)) = poses[i].timestamp;
           matrices.push_back(poses[i].pose);
         }
-        return py::make_tuple(stamps, posesArray(matrices, false));
+        return py::make_tuple(stamps, posesArray(matrices));
       },
       py::arg("path"),
       "A TUM trajectory (`timestamp tx ty tz qx qy qz qw` lines) as (timestamps (K,), poses (K, 4, 4)), read as "
@@ -248,9 +237,12 @@ void bindReconstructor(py::module_& m) {
       .def(
           "poses",
           [](PyReconstructor& self, bool reported, const py::object& progress) {
-            const std::vector<Eigen::Isometry3d> poses = self.withResult(
+            std::vector<Eigen::Isometry3d> poses = self.withResult(
                 progress, [&](const reconstruction::ReconstructionResult& r) { return reported ? r.reported_poses : r.poses; });
-            return posesArray(poses, true);
+            // Back to the optical axes they came in with.
+            for (Eigen::Isometry3d& pose : poses)
+              pose.linear() = pose.linear() * reconstruction::mrptSensorAxesInOptical().transpose();
+            return posesArray(poses);
           },
           py::arg("reported") = false, py::arg("progress") = py::none(),
           "(K, 4, 4) camera-to-object poses in optical axes: registered, or as given (`reported`).")

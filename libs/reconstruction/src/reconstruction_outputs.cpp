@@ -203,16 +203,11 @@ GroundTruthPoses readGroundTruthPoses(const std::string& input, const std::strin
   } else if (isBag(input)) {
     // A bag's ground truth is in optical axes too (ROS's camera frames),
     // matched to its images by stamp like its pose topic.
-    ScanReaderOptions probe_options;
-    probe_options.depth_camera = params.depth_camera;
-    probe_options.max_time_difference = params.max_time_difference;
-    probe_options.mcap = params.mcap;
+    ScanReaderOptions probe_options = scanReaderOptions(params);
     probe_options.unproject = false;
     const ScanReader probe(input, probe_options);
     const std::vector<double> stamps = probe.bag()->imageStamps();
-    const double tolerance = params.max_time_difference != kTumMaxTimeDifference ? params.max_time_difference
-                                                                                  : params.mcap.max_time_difference;
-    const MatchedPoses matched = matchOpticalPoses(file, stamps, tolerance);
+    const MatchedPoses matched = matchOpticalPoses(file, stamps, probe.bag()->maxTimeDifference());
     for (std::size_t i = 0; i < stamps.size(); ++i) truth.poses.push_back({stamps[i], matched.sensor_poses[i]});
     normalised = matched.normalised;
   } else {

@@ -22,7 +22,14 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-ScanReaderOptions readerOptions(const ReconstructionParameters& params) {
+
+void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
+  if (progress) progress(stage, done, total);
+}
+
+}  // namespace
+
+ScanReaderOptions scanReaderOptions(const ReconstructionParameters& params) {
   ScanReaderOptions options;
   options.pose_file = params.pose_file;
   options.images_folder = params.images_folder;
@@ -32,12 +39,6 @@ ScanReaderOptions readerOptions(const ReconstructionParameters& params) {
   options.mcap = params.mcap;
   return options;
 }
-
-void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
-  if (progress) progress(stage, done, total);
-}
-
-}  // namespace
 
 std::optional<Eigen::Vector3d> convergencePoint(const std::vector<Eigen::Isometry3d>& sensor_poses) {
   // Minimises the summed squared distances to the lines o + s d:
@@ -87,7 +88,7 @@ void validateReconstructionParameters(const ReconstructionParameters& params) {
 ReconstructionResult reconstructRawlog(const std::string& rawlog, const ReconstructionParameters& params,
                                        const ProgressCallback& progress) {
   Reconstructor reconstructor(params, rawlog);
-  ScanReader reader(rawlog, readerOptions(params));
+  ScanReader reader(rawlog, scanReaderOptions(params));
   double read_ms = 0.0;
   for (;;) {
     const auto start = Clock::now();

@@ -240,6 +240,10 @@ void validateReconstructionParameters(const ReconstructionParameters& params);
 ReconstructionResult reconstructRawlog(const std::string& rawlog, const ReconstructionParameters& params = {},
                                        const ProgressCallback& progress = {});
 
+/// How the readers are to open the input of `params` (pose file, camera,
+/// bag topics and tolerances).
+ScanReaderOptions scanReaderOptions(const ReconstructionParameters& params);
+
 /// The point closest (least squares) to the lines through each pose's
 /// origin along its +x axis (MRPT's optical axis); nothing when the axes
 /// are (nearly) parallel.

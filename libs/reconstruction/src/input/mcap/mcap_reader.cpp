@@ -458,6 +458,9 @@ std::size_t McapReader::scansRead() const {
 std::size_t McapReader::scanCount() const {
   return impl_->images.size();
 }
+double McapReader::maxTimeDifference() const {
+  return impl_->options.max_time_difference;
+}
 std::vector<double> McapReader::imageStamps() const {
   std::vector<double> stamps;
   for (const ImageEntry& image : impl_->images) stamps.push_back(image.stamp);

@@ -79,6 +79,8 @@ class McapReader {
   std::size_t scanCount() const;
   /// Their header stamps (seconds), in the order next() returns them.
   std::vector<double> imageStamps() const;
+  /// The largest time difference (seconds) a pose was matched over.
+  double maxTimeDifference() const;
   const std::string& path() const;
   /// intrinsics (the CameraInfo's, or the options'), the images' size,
   /// depth_scale (16UC1 counts per metre) and where they came from;
