@@ -100,47 +100,54 @@ struct EdgePoint {
 // corner): a flip never joins two vertices of one side, since points sit
 // where they really are, a little off the side, and such a chord could
 // also be made by the face on the side's other side (a third face on it).
+// Edges wait on a stack and a flip queues only the quad's four sides, so
+// the work follows the flips, not rounds over every triangle (a face takes
+// up to a few hundred points).
 void flipToDelaunay(const std::vector<Vector2d>& xy, const std::vector<std::uint8_t>& sides,
                     std::vector<std::array<int, 3>>& tris, double scale) {
   const double tolerance = 1e-12 * scale * scale * scale * scale;
+  const std::size_t v_count = xy.size();
+  // The triangle holding each directed edge u -> v, or -1.
+  std::vector<int> holder(v_count * v_count, -1);
+  auto at = [&](int u, int v) -> int& { return holder[static_cast<std::size_t>(u) * v_count + static_cast<std::size_t>(v)]; };
+  std::vector<std::pair<int, int>> stack;
+  stack.reserve(3 * tris.size());
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int u = tris[t][k], v = tris[t][(k + 1) % 3];
+      at(u, v) = static_cast<int>(t);
+      stack.emplace_back(u, v);
+    }
+  // Delaunay flips terminate; the bound only guards against rounding.
+  std::size_t flips_left = 4 * tris.size() * tris.size() + 64;
   auto third = [](const std::array<int, 3>& t, int u, int v) {
     for (int k = 0; k < 3; ++k)
       if (t[k] != u && t[k] != v) return t[k];
     return -1;
   };
-  std::vector<std::tuple<int, int, int>> directed;  // (from, to, triangle)
-  std::vector<std::uint8_t> touched;
-  const std::size_t max_rounds = 4 * tris.size() + 8;
-  for (std::size_t round = 0; round < max_rounds; ++round) {
-    // Adjacency as of this round; a triangle flipped in it waits for the next.
-    directed.clear();
-    for (std::size_t t = 0; t < tris.size(); ++t)
-      for (int k = 0; k < 3; ++k) directed.emplace_back(tris[t][k], tris[t][(k + 1) % 3], static_cast<int>(t));
-    std::sort(directed.begin(), directed.end());
-    touched.assign(tris.size(), 0);
-    bool flipped = false;
-    for (std::size_t a = 0; a < tris.size(); ++a) {
-      for (int e = 0; e < 3 && !touched[a]; ++e) {
-        const int u = tris[a][e], v = tris[a][(e + 1) % 3];
-        const auto it = std::lower_bound(directed.begin(), directed.end(), std::make_tuple(v, u, -1));
-        if (it == directed.end() || std::get<0>(*it) != v || std::get<1>(*it) != u) continue;  // on the outline
-        const auto b = static_cast<std::size_t>(std::get<2>(*it));
-        if (touched[b]) continue;
-        const int w = third(tris[a], u, v), z = third(tris[b], u, v);
-        // In-circle test of z against the counter-clockwise (u, v, w).
-        const Vector2d pu = xy[u] - xy[z], pv = xy[v] - xy[z], pw = xy[w] - xy[z];
-        const double det =
-            pu.squaredNorm() * cross2(pv, pw) - pv.squaredNorm() * cross2(pu, pw) + pw.squaredNorm() * cross2(pu, pv);
-        if (!(det > tolerance) || (sides[w] & sides[z]) != 0) continue;
-        // Only a strictly convex quad (u, z, v, w) can take the other diagonal.
-        if (!(orient(xy[u], xy[z], xy[w]) > 0.0 && orient(xy[z], xy[v], xy[w]) > 0.0)) continue;
-        tris[a] = {u, z, w};
-        tris[b] = {z, v, w};
-        touched[a] = touched[b] = 1;
-        flipped = true;
-      }
-    }
-    if (!flipped) return;
+  while (!stack.empty() && flips_left > 0) {
+    const auto [u, v] = stack.back();
+    stack.pop_back();
+    const int a = at(u, v), b = at(v, u);
+    if (a < 0 || b < 0) continue;  // on the outline, or flipped away
+    const int w = third(tris[static_cast<std::size_t>(a)], u, v), z = third(tris[static_cast<std::size_t>(b)], u, v);
+    // In-circle test of z against the counter-clockwise (u, v, w).
+    const Vector2d pu = xy[u] - xy[z], pv = xy[v] - xy[z], pw = xy[w] - xy[z];
+    const double det =
+        pu.squaredNorm() * cross2(pv, pw) - pv.squaredNorm() * cross2(pu, pw) + pw.squaredNorm() * cross2(pu, pv);
+    if (!(det > tolerance) || (sides[w] & sides[z]) != 0) continue;
+    // Only a strictly convex quad (u, z, v, w) can take the other diagonal.
+    if (!(orient(xy[u], xy[z], xy[w]) > 0.0 && orient(xy[z], xy[v], xy[w]) > 0.0)) continue;
+    tris[static_cast<std::size_t>(a)] = {u, z, w};
+    tris[static_cast<std::size_t>(b)] = {z, v, w};
+    at(u, v) = at(v, u) = -1;
+    at(u, z) = at(z, w) = at(w, u) = a;
+    at(z, v) = at(v, w) = at(w, z) = b;
+    stack.emplace_back(u, z);
+    stack.emplace_back(z, v);
+    stack.emplace_back(v, w);
+    stack.emplace_back(w, u);
+    --flips_left;
   }
 }
 
