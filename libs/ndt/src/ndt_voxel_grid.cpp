@@ -15,6 +15,9 @@ namespace {
 // 21 bits per axis: +-2^20 cells, i.e. +-10 km at 1 cm, far beyond any scan.
 constexpr std::int64_t kHalfRange = 1 << 20;
 
+// A dense cell table up to this many entries (4 MB).
+constexpr double kMaxDenseEntries = 1 << 20;
+
 bool inRange(const Eigen::Vector3i& c) {
   for (int k = 0; k < 3; ++k)
     if (c(k) < -kHalfRange || c(k) >= kHalfRange) return false;
@@ -38,6 +41,15 @@ Eigen::Vector3i NdtVoxelGrid::cellOf(const Eigen::Vector3d& point) const {
 }
 
 int NdtVoxelGrid::find(const Eigen::Vector3i& cell) const {
+  if (!dense_.empty()) {
+    const Eigen::Vector3i d = cell - dense_origin_;
+    if (d(0) < 0 || d(1) < 0 || d(2) < 0 || d(0) >= dense_size_(0) || d(1) >= dense_size_(1) || d(2) >= dense_size_(2))
+      return -1;
+    return dense_[(static_cast<std::size_t>(d(0)) * static_cast<std::size_t>(dense_size_(1)) +
+                   static_cast<std::size_t>(d(1))) *
+                      static_cast<std::size_t>(dense_size_(2)) +
+                  static_cast<std::size_t>(d(2))];
+  }
   if (!inRange(cell)) return -1;
   const auto it = index_.find(pack(cell));
   return it == index_.end() ? -1 : it->second;
@@ -51,6 +63,7 @@ NdtVoxelGrid::NdtVoxelGrid(const std::vector<Eigen::Vector3d>& points, double re
   std::unordered_map<std::int64_t, int> slot;
   std::vector<Eigen::Vector3i> keys;
   std::vector<std::vector<int>> members;
+  std::vector<Eigen::Vector3i> cell_keys;  // per kept cell
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3i c = cellOf(points[i]);
     if (!inRange(c))
@@ -88,12 +101,32 @@ NdtVoxelGrid::NdtVoxelGrid(const std::vector<Eigen::Vector3d>& points, double re
     cell.inverse_covariance = eigen.eigenvectors() * values.cwiseInverse().asDiagonal() * eigen.eigenvectors().transpose();
     cell.count = static_cast<int>(m.size());
     index_.emplace(pack(keys[s]), static_cast<int>(cells_.size()));
+    cell_keys.push_back(keys[s]);
     cells_.push_back(cell);
   }
   if (cells_.empty())
     throw InputError("target cloud", "",
                      "no cell of " + std::to_string(resolution) + " m holds " + std::to_string(std::max(min_points, 3)) +
                          " points or more; the cloud is too sparse for this resolution");
+  Eigen::Vector3i lo = cell_keys.front(), hi = cell_keys.front();
+  for (const Eigen::Vector3i& c : cell_keys) {
+    lo = lo.cwiseMin(c);
+    hi = hi.cwiseMax(c);
+  }
+  const Eigen::Vector3i size = hi - lo + Eigen::Vector3i::Ones();
+  const double entries = double(size(0)) * double(size(1)) * double(size(2));
+  if (entries <= kMaxDenseEntries) {
+    dense_origin_ = lo;
+    dense_size_ = size;
+    dense_.assign(static_cast<std::size_t>(entries), -1);
+    for (std::size_t k = 0; k < cell_keys.size(); ++k) {
+      const Eigen::Vector3i d = cell_keys[k] - lo;
+      dense_[(static_cast<std::size_t>(d(0)) * static_cast<std::size_t>(size(1)) + static_cast<std::size_t>(d(1))) *
+                 static_cast<std::size_t>(size(2)) +
+             static_cast<std::size_t>(d(2))] = static_cast<int>(k);
+    }
+    std::unordered_map<std::int64_t, int>().swap(index_);
+  }
 }
 
 void NdtVoxelGrid::lookup(const Eigen::Vector3d& point, NdtNeighbourhood neighbourhood, std::vector<int>& out) const {

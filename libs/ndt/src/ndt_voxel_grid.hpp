@@ -42,7 +42,14 @@ private:
 
   double resolution_;
   std::vector<NdtCell> cells_;
-  std::unordered_map<std::int64_t, int> index_;  // packed cell coordinates -> position in cells_
+  // Position in cells_ per cell: a dense table over the occupied cells'
+  // bounding box when it is small (an object's view: a few hundred
+  // thousand cells; a lookup is then one load, not a hash probe), else a
+  // hash of the packed coordinates.
+  Eigen::Vector3i dense_origin_ = Eigen::Vector3i::Zero();
+  Eigen::Vector3i dense_size_ = Eigen::Vector3i::Zero();
+  std::vector<int> dense_;
+  std::unordered_map<std::int64_t, int> index_;
 };
 
 }  // namespace icrkit::ndt

@@ -4,6 +4,9 @@
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -349,15 +352,26 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     OctreeFusionParameters fusion_params = params.fusion;
     fusion_params.bounds = result.crop_box;
     OctreeFusion fusion(fusion_params);
-    for (std::size_t i = 0; i < n; ++i) {
+    // A few scans at a time, restored and traced in parallel (the octree
+    // is updated in scan order all the same): all of them at once would
+    // hold every scan in double precision.
+    const std::size_t chunk = 2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency()));
+    for (std::size_t first = 0; first < n; first += chunk) {
       const auto start = Clock::now();
-      RangeScan scan = scans[i].restore();
-      const Eigen::Isometry3d correction = result.poses[i] * scan.sensor_pose.inverse();
-      for (Eigen::Vector3d& p : scan.points) p = correction * p;
-      scan.sensor_pose = result.poses[i];
-      fusion.insert(scan, objects[i]);
+      const std::size_t last = std::min(n, first + chunk);
+      std::vector<RangeScan> placed(last - first);
+      std::vector<std::vector<std::uint8_t>> masks(objects.begin() + static_cast<std::ptrdiff_t>(first),
+                                                   objects.begin() + static_cast<std::ptrdiff_t>(last));
+      tbb::parallel_for(first, last, [&](std::size_t i) {
+        RangeScan scan = scans[i].restore();
+        const Eigen::Isometry3d correction = result.poses[i] * scan.sensor_pose.inverse();
+        for (Eigen::Vector3d& p : scan.points) p = correction * p;
+        scan.sensor_pose = result.poses[i];
+        placed[i - first] = std::move(scan);
+      });
+      fusion.insert(placed, masks);
       times.fusion_ms += msSince(start);
-      report(progress, "fusion", i + 1, n);
+      report(progress, "fusion", last, n);
     }
     const auto start = Clock::now();
     OctreeFusionResult fused = fusion.finish();

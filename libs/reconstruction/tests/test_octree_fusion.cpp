@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace icrkit::reconstruction {
@@ -153,6 +154,51 @@ TEST(OctreeFusion, DoubleLayerInFrontIsCarved) {
   const OctreeFusionResult again = fuseScans(scans, params);
   EXPECT_EQ(again.points.positions, result.points.positions);
   EXPECT_EQ(again.report.occupied_leaves, result.report.occupied_leaves);
+}
+
+TEST(OctreeFusion, ScansInsertedTogetherGiveTheTreeOfOneByOne) {
+  // The batch traces rays in parallel and updates in order: the same
+  // points, leaves and report as inserting each scan in turn, masks too.
+  using testing_support::blankScan;
+  using testing_support::castRays;
+  using testing_support::lookAt;
+  auto ball = [](const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+    // A sphere of 5 cm at the origin (d is a unit direction).
+    const double b = o.dot(d), c = o.squaredNorm() - 0.05 * 0.05, disc = b * b - c;
+    return disc < 0 ? -1.0 : -b - std::sqrt(disc);
+  };
+  std::vector<RangeScan> scans;
+  std::vector<std::vector<std::uint8_t>> masks;
+  for (int i = 0; i < 5; ++i) {
+    const double a = 1.2 * i;
+    scans.push_back(blankScan(120, 90, 250.0, lookAt(Eigen::Vector3d(0.5 * std::cos(a), 0.5 * std::sin(a), 0.1 * i),
+                                                     Eigen::Vector3d(0, 0, 0))));
+    castRays(scans.back(), ball);
+    scans.back().index = static_cast<std::size_t>(i);
+    std::vector<std::uint8_t> mask(scans.back().points.size());
+    for (std::size_t k = 0; k < mask.size(); ++k) mask[k] = (k + static_cast<std::size_t>(i)) % 3 != 0;
+    masks.push_back(mask);
+  }
+  ASSERT_GT(scans.front().points.size(), 1000u);
+  OctreeFusionParameters params;
+  params.bounds = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-0.1), Eigen::Vector3d::Constant(0.1));
+  OctreeFusion one_by_one(params), together(params);
+  for (std::size_t i = 0; i < scans.size(); ++i) one_by_one.insert(scans[i], masks[i]);
+  together.insert(std::vector<RangeScan>(scans.begin(), scans.begin() + 2),
+                  std::vector<std::vector<std::uint8_t>>(masks.begin(), masks.begin() + 2));
+  together.insert(std::vector<RangeScan>(scans.begin() + 2, scans.end()),
+                  std::vector<std::vector<std::uint8_t>>(masks.begin() + 2, masks.end()));
+  const OctreeFusionResult a = one_by_one.finish(), b = together.finish();
+  ASSERT_GT(a.points.size(), 1000u);
+  EXPECT_EQ(a.points.positions, b.points.positions);
+  EXPECT_EQ(a.points.attributes.get("view").values, b.points.attributes.get("view").values);
+  EXPECT_EQ(a.report.dropped_free, b.report.dropped_free);
+  EXPECT_EQ(a.report.kept_per_scan, b.report.kept_per_scan);
+  EXPECT_EQ(a.report.leaves, b.report.leaves);
+  EXPECT_EQ(a.report.occupied_leaves, b.report.occupied_leaves);
+
+  OctreeFusion wrong(params);
+  EXPECT_THROW(wrong.insert(scans, std::vector<std::vector<std::uint8_t>>(1)), InputError);
 }
 
 TEST(OctreeFusion, RejectsBadParameters) {

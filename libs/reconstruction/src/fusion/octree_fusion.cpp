@@ -7,6 +7,7 @@
 #include <icrkit/core/error.hpp>
 
 #include <octomap/OcTree.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -15,6 +16,16 @@
 #include <string>
 
 namespace icrkit::reconstruction {
+
+namespace {
+
+// What one scan does to the octree: the voxels its rays cross and those
+// its points end in.
+struct TracedScan {
+  octomap::KeySet free_keys, hit_keys;
+};
+
+}  // namespace
 
 struct OctreeFusion::Impl {
   explicit Impl(const OctreeFusionParameters& p) : params(p), tree(p.resolution) {}
@@ -30,6 +41,9 @@ struct OctreeFusion::Impl {
   std::vector<std::uint32_t> pixels;
   std::vector<std::uint32_t> origins;  // index into `viewpoints`, one per scan
   std::vector<Eigen::Vector3d> viewpoints;
+
+  // The octree update and the bookkeeping of one traced scan, in order.
+  void apply(const RangeScan& scan, const std::vector<std::uint8_t>& candidate, const TracedScan& traced);
 };
 
 namespace {
@@ -77,28 +91,30 @@ OctreeFusion::OctreeFusion(const OctreeFusionParameters& params) {
 
 OctreeFusion::~OctreeFusion() = default;
 
-void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>& candidate) {
-  if (impl_->finished) throw std::logic_error("OctreeFusion::insert after finish()");
+namespace {
+
+void checkCandidates(const RangeScan& scan, const std::vector<std::uint8_t>& candidate) {
   if (!candidate.empty() && candidate.size() != scan.points.size())
     throw InputError("scan " + std::to_string(scan.index), "",
                      "candidate mask has " + std::to_string(candidate.size()) + " flags for " +
                          std::to_string(scan.points.size()) + " points");
-  const auto start = std::chrono::steady_clock::now();
-  Impl& s = *impl_;
-  const OctreeFusionParameters& params = s.params;
-  octomap::OcTree& tree = s.tree;
+}
+
+// The costly part of an insertion. It reads only the tree's resolution
+// (computeRayKeys and coordToKeyChecked are const and never look at the
+// nodes), so scans can be traced in parallel.
+TracedScan traceScan(const octomap::OcTree& tree, const OctreeFusionParameters& params, const RangeScan& scan) {
   const bool bounded = !params.bounds.isEmpty();
   const Eigen::Vector3d o = scan.sensor_pose.translation();
   const double max_range = params.max_range.value_or(scan.max_range);
-
   // The update is OctoMap's insertPointCloud (one update per voxel and
   // scan, a voxel both hit and crossed counts as hit), with the rays clipped
   // to `bounds` here: OctoMap's own BBX limit walks each ray back from its
   // end point and stops at the box, so a ray ending outside the box (on the
   // table, the background) would carve nothing inside it, and those are
   // exactly the rays that see through the space around the object.
+  TracedScan traced;
   octomap::KeyRay ray;
-  octomap::KeySet free_keys, hit_keys;
   for (const Eigen::Vector3d& p : scan.points) {
     Eigen::Vector3d end = p;
     bool hit = true;
@@ -109,37 +125,78 @@ void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>
     }
     if (bounded && !params.bounds.contains(end)) hit = false;
     octomap::OcTreeKey key;
-    if (hit && tree.coordToKeyChecked(toOcto(end), key)) hit_keys.insert(key);
+    if (hit && tree.coordToKeyChecked(toOcto(end), key)) traced.hit_keys.insert(key);
     double t0 = 0.0, t1 = 1.0;
     if (bounded && !clipToBox(params.bounds, o, end, t0, t1)) continue;
     if (tree.computeRayKeys(toOcto(o + t0 * (end - o)), toOcto(o + t1 * (end - o)), ray))
-      free_keys.insert(ray.begin(), ray.end());
+      traced.free_keys.insert(ray.begin(), ray.end());
   }
+  return traced;
+}
+
+}  // namespace
+
+void OctreeFusion::Impl::apply(const RangeScan& scan, const std::vector<std::uint8_t>& candidate,
+                               const TracedScan& traced) {
+  const bool bounded = !params.bounds.isEmpty();
+  const Eigen::Vector3d o = scan.sensor_pose.translation();
+  const double max_range = params.max_range.value_or(scan.max_range);
   // Inner nodes are brought up to date once at the end (OctoMap's
   // documented use of lazy evaluation); leaves are exact after every scan.
-  for (const octomap::OcTreeKey& key : free_keys)
-    if (hit_keys.find(key) == hit_keys.end()) tree.updateNode(key, false, true);
-  for (const octomap::OcTreeKey& key : hit_keys) tree.updateNode(key, true, true);
+  for (const octomap::OcTreeKey& key : traced.free_keys)
+    if (traced.hit_keys.find(key) == traced.hit_keys.end()) tree.updateNode(key, false, true);
+  for (const octomap::OcTreeKey& key : traced.hit_keys) tree.updateNode(key, true, true);
 
-  const std::uint32_t origin = static_cast<std::uint32_t>(s.viewpoints.size());
-  s.viewpoints.push_back(o);
+  const std::uint32_t origin = static_cast<std::uint32_t>(viewpoints.size());
+  viewpoints.push_back(o);
   std::size_t candidates = 0;
   for (std::size_t k = 0; k < scan.points.size(); ++k) {
     if (!candidate.empty() && !candidate[k]) continue;
     ++candidates;
     const Eigen::Vector3d& p = scan.points[k];
     if ((bounded && !params.bounds.contains(p)) || (max_range > 0 && (p - o).norm() > max_range)) {
-      ++s.report.dropped_outside;
+      ++report.dropped_outside;
       continue;
     }
-    s.points.push_back(p);
-    s.views.push_back(static_cast<std::int32_t>(scan.index));
-    s.pixels.push_back(k < scan.pixels.size() ? scan.pixels[k] : 0u);
-    s.origins.push_back(origin);
+    points.push_back(p);
+    views.push_back(static_cast<std::int32_t>(scan.index));
+    pixels.push_back(k < scan.pixels.size() ? scan.pixels[k] : 0u);
+    origins.push_back(origin);
   }
-  s.report.points_in += candidates;
-  ++s.report.scans;
-  s.time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  report.points_in += candidates;
+  ++report.scans;
+}
+
+void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>& candidate) {
+  if (impl_->finished) throw std::logic_error("OctreeFusion::insert after finish()");
+  checkCandidates(scan, candidate);
+  const auto start = std::chrono::steady_clock::now();
+  impl_->apply(scan, candidate, traceScan(impl_->tree, impl_->params, scan));
+  impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+void OctreeFusion::insert(const std::vector<RangeScan>& scans, const std::vector<std::vector<std::uint8_t>>& candidates) {
+  if (impl_->finished) throw std::logic_error("OctreeFusion::insert after finish()");
+  if (!candidates.empty() && candidates.size() != scans.size())
+    throw InputError("scans", "",
+                     std::to_string(candidates.size()) + " candidate masks for " + std::to_string(scans.size()) +
+                         " scans");
+  static const std::vector<std::uint8_t> kEveryPoint;
+  auto maskOf = [&](std::size_t i) -> const std::vector<std::uint8_t>& {
+    return candidates.empty() ? kEveryPoint : candidates[i];
+  };
+  for (std::size_t i = 0; i < scans.size(); ++i) checkCandidates(scans[i], maskOf(i));
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<TracedScan> traced(scans.size());
+  tbb::parallel_for(std::size_t{0}, scans.size(),
+                    [&](std::size_t i) { traced[i] = traceScan(impl_->tree, impl_->params, scans[i]); });
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    impl_->apply(scans[i], maskOf(i), traced[i]);
+    // Its key sets are the largest part of the memory.
+    octomap::KeySet().swap(traced[i].free_keys);
+    octomap::KeySet().swap(traced[i].hit_keys);
+  }
+  impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 OctreeFusionResult OctreeFusion::finish() {

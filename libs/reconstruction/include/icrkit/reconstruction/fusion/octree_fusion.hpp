@@ -88,6 +88,11 @@ public:
   /// support-plane removal), while every point's ray still carves. Throws
   /// InputError (naming the scan) when `candidate` has the wrong size.
   void insert(const RangeScan& scan, const std::vector<std::uint8_t>& candidate = {});
+  /// Several scans, in order: the same tree and model as insert() called
+  /// for each in turn. Tracing their rays, the costly part that reads
+  /// nothing of the tree, runs in parallel; the updates follow in order.
+  /// `candidates`: empty, or one mask per scan.
+  void insert(const std::vector<RangeScan>& scans, const std::vector<std::vector<std::uint8_t>>& candidates);
 
   /// Decides which candidates survive; the fusion cannot be used afterwards.
   OctreeFusionResult finish();
