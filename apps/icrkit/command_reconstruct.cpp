@@ -29,7 +29,7 @@ nlohmann::json reconstruct(const ReconstructOptions& options, CommandContext& co
   const reconstruction::ReconstructionParameters params = reconstructionParameters(options);
   // Bad values fail before the ground truth is read (reconstructRawlog checks them again).
   reconstruction::validateReconstructionParameters(params);
-  reconstruction::ReconstructionRecordInput record{options.input, options.output, options.range_correction, {}};
+  reconstruction::ReconstructionRecordInput record{options.input, options.output, options.range_correction, {}, ""};
   // The ground truth is read (and for a folder matched to its frames)
   // before the long run, so that a bad file fails at once.
   if (!options.gt_poses.empty())

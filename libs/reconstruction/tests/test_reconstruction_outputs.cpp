@@ -37,7 +37,7 @@ TEST(ReconstructionOutputs, FilesAndRecordOfAPerfectRecording) {
   const ReconstructionResult result = reconstructRawlog(dir + "/scans.rawlog", params);
   ASSERT_EQ(result.poses.size(), 4u);
 
-  ReconstructionRecordInput input{dir + "/scans.rawlog", "out", "", {}};
+  ReconstructionRecordInput input{dir + "/scans.rawlog", "out", "", {}, ""};
   input.ground_truth = readGroundTruthPoses(input.input, dir + "/ground_truth.txt", params);
   ASSERT_EQ(input.ground_truth->poses.size(), 4u);
   const nlohmann::json record = nlohmann::json::parse(reconstructionRecordJson(result, params, input));
