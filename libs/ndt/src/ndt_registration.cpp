@@ -132,24 +132,39 @@ public:
           grid_.lookup(y, neighbourhood_, cells);
           if (cells.empty()) continue;
           ++acc.points_scored;
-          Eigen::Matrix<double, 3, 6> jacobian;
-          jacobian.leftCols<3>().setIdentity();
-          for (int k = 0; k < 3; ++k) jacobian.col(3 + k) = rd.first[static_cast<std::size_t>(k)] * p;
+          // The Jacobian is [I | B], B's columns the rotation derivatives
+          // applied to p: its identity block is used as such (J^T C J =
+          // [C, C B; B^T C, B^T C B]), and the second-derivative vectors,
+          // which depend on the point alone, are made once for all its cells.
+          Eigen::Matrix3d b;
+          for (int k = 0; k < 3; ++k) b.col(k) = rd.first[static_cast<std::size_t>(k)] * p;
+          std::array<Eigen::Vector3d, 9> second;
+          if (with_hessian)
+            for (int a = 0; a < 3; ++a)
+              for (int bb = 0; bb < 3; ++bb)
+                second[static_cast<std::size_t>(3 * a + bb)] =
+                    rd.second[static_cast<std::size_t>(a)][static_cast<std::size_t>(bb)] * p;
           for (int c : cells) {
             const NdtCell& cell = grid_.cells()[static_cast<std::size_t>(c)];
             const Eigen::Vector3d q = y - cell.mean;
             const Eigen::Vector3d cq = cell.inverse_covariance * q;
             const double e = std::exp(-0.5 * d2 * q.dot(cq));
             acc.value -= amplitude * e;
-            const Vector6d gq = jacobian.transpose() * cq;  // q^T C J_i
+            Vector6d gq;  // q^T C J_i
+            gq.head<3>() = cq;
+            gq.tail<3>() = b.transpose() * cq;
             const double w = amplitude * d2 * e;
             acc.gradient.noalias() += w * gq;
             if (!with_hessian) continue;
-            Matrix6d h = jacobian.transpose() * cell.inverse_covariance * jacobian;
+            const Eigen::Matrix3d btc = b.transpose() * cell.inverse_covariance;
+            Matrix6d h;
+            h.topLeftCorner<3, 3>() = cell.inverse_covariance;
+            h.topRightCorner<3, 3>() = cell.inverse_covariance * b;
+            h.bottomLeftCorner<3, 3>() = btc;
+            h.bottomRightCorner<3, 3>() = btc * b;
             h.noalias() -= d2 * gq * gq.transpose();
             for (int a = 0; a < 3; ++a)
-              for (int bb = 0; bb < 3; ++bb)
-                h(3 + a, 3 + bb) += cq.dot(rd.second[static_cast<std::size_t>(a)][static_cast<std::size_t>(bb)] * p);
+              for (int bb = 0; bb < 3; ++bb) h(3 + a, 3 + bb) += cq.dot(second[static_cast<std::size_t>(3 * a + bb)]);
             acc.hessian.noalias() += w * h;
           }
         }
