@@ -304,6 +304,8 @@ PointInsertionReport insertPointsIntoMesh(TriangleMesh& mesh, const std::vector<
         std::max({(frame.corner[1] - frame.corner[0]).norm(), (frame.corner[2] - frame.corner[0]).norm(),
                   (frame.corner[2] - frame.corner[1]).norm()});
     const double min_area = 1e-12 * scale * scale;
+    const double far_sq = sep * sep * (1.0 + 1e-9);
+    const double clearance_far_sq = kOutlineClearance * kOutlineClearance * sep * sep * (1.0 + 1e-9);
     std::vector<std::uint8_t> inside_off(inside[fi].size(), 0);
     std::vector<Vector2d> xy;
     std::vector<int> global;
@@ -369,22 +371,35 @@ PointInsertionReport insertPointsIntoMesh(TriangleMesh& mesh, const std::vector<
         if (points >= params.max_points_per_face) break;
         const Vector2d& x = placement[inside[fi][slot]].xy;
         bool crowded = false;
-        for (std::size_t v = 3; v < xy.size() && !crowded; ++v) crowded = (xy[v] - x).norm() < sep;
+        // Squared distances clearly beyond the bound skip the square root;
+        // the comparison itself is the one on lengths.
+        for (std::size_t v = 3; v < xy.size() && !crowded; ++v) {
+          const double sq = (xy[v] - x).squaredNorm();
+          crowded = sq < far_sq && std::sqrt(sq) < sep;
+        }
         // A side point a little inside the face must not leave a needle
         // between it, the side and x: x keeps a tenth of a separation from
         // the outline as it really is.
         for (std::size_t k = 0; k < outline.size() && !crowded; ++k) {
           const Vector2d d = outline[k][1] - outline[k][0];
           const double along = std::clamp((x - outline[k][0]).dot(d) / d.squaredNorm(), 0.0, 1.0);
-          crowded = (outline[k][0] + along * d - x).norm() < kOutlineClearance * sep;
+          const double sq = (outline[k][0] + along * d - x).squaredNorm();
+          crowded = sq < clearance_far_sq && std::sqrt(sq) < kOutlineClearance * sep;
         }
         if (crowded) continue;
         // The triangle that holds x most deeply; a point on one of its
         // sides (to rounding) would make a flat triangle and stays out.
+        // Only a triangle with x on the inner side of all three sides can
+        // hold it that deeply (the side distances are these orientations
+        // over the sides' lengths), so the others cost no square root.
         std::size_t host = tris.size();
         double depth = -std::numeric_limits<double>::infinity();
         for (std::size_t t = 0; t < tris.size(); ++t) {
-          const std::array<Vector2d, 3> corners{xy[tris[t][0]], xy[tris[t][1]], xy[tris[t][2]]};
+          const Vector2d& a = xy[tris[t][0]];
+          const Vector2d& b = xy[tris[t][1]];
+          const Vector2d& c = xy[tris[t][2]];
+          if (!(orient(a, b, x) > 0.0 && orient(b, c, x) > 0.0 && orient(c, a, x) > 0.0)) continue;
+          const std::array<Vector2d, 3> corners{a, b, c};
           const std::array<double, 3> d = sideDistances(corners, x);
           const double m = std::min({d[0], d[1], d[2]});
           if (m > depth) {
