@@ -115,7 +115,12 @@ NdtVoxelGrid::NdtVoxelGrid(const std::vector<Eigen::Vector3d>& points, double re
   }
   const Eigen::Vector3i size = hi - lo + Eigen::Vector3i::Ones();
   const double entries = double(size(0)) * double(size(1)) * double(size(2));
-  if (entries <= kMaxDenseEntries) {
+  // A table of 4-byte entries costs about what a hash of ~48-byte nodes
+  // does when it is at most ~12 times fuller; up to 64 times (a view's
+  // surface in its box at the finest level) it is kept for the speed, a
+  // sparser or larger box gets the hash.
+  const double cells = static_cast<double>(cell_keys.size());
+  if (entries <= kMaxDenseEntries && entries <= std::max(65536.0, 64.0 * cells)) {
     dense_origin_ = lo;
     dense_size_ = size;
     dense_.assign(static_cast<std::size_t>(entries), -1);

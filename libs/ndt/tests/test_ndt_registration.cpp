@@ -189,6 +189,31 @@ TEST(NdtRegistration, SameResultWithOneAndTwoThreads) {
   EXPECT_EQ(one.iterations, two.iterations);
 }
 
+TEST(NdtRegistration, FarCellsDoNotChangeTheResult) {
+  // A cluster 3 m away makes the occupied cells' box too sparse for the
+  // dense cell table at the fine resolutions (the hash serves them) while
+  // the coarse ones stay dense: every Gaussian near the object is found
+  // alike, so the registration is the same, bit for bit.
+  const PointCloud object = makeBoxAndSphere(0.0005, 7);
+  PointCloud with_far = object;
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> jitter(0.0, 0.004);
+  for (int i = 0; i < 400; ++i)
+    with_far.positions.push_back(Eigen::Vector3d(3.0, 0.0, 0.0) + Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng)));
+  NdtParameters params;
+  params.resolutions = {0.02, 0.01, 0.005};
+  const NdtTarget near_only(object, params), both(with_far, params);
+  const PointCloud source =
+      transformedCloud(makeBoxAndSphere(0.0005, 8), makePose({0.01, -0.008, 0.006}, {1, -1, 0.5}, 3 * kDeg));
+  const NdtResult a = registerNdt(source, near_only, Eigen::Isometry3d::Identity(), params);
+  const NdtResult b = registerNdt(source, both, Eigen::Isometry3d::Identity(), params);
+  EXPECT_GT(both.cellCount(0.005), near_only.cellCount(0.005));
+  EXPECT_LT(a.pose.translation().norm(), 0.05);
+  EXPECT_TRUE(a.pose.matrix() == b.pose.matrix());
+  EXPECT_EQ(a.score, b.score);
+  EXPECT_EQ(a.iterations, b.iterations);
+}
+
 TEST(NdtRegistration, TargetIsReusableAndBuildsMissingResolutionsOnDemand) {
   const PointCloud target_cloud = makeBoxAndSphere(0.0005, 5);
   NdtParameters only_two;
