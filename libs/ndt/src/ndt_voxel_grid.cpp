@@ -40,15 +40,19 @@ Eigen::Vector3i NdtVoxelGrid::cellOf(const Eigen::Vector3d& point) const {
   return c;
 }
 
+std::size_t NdtVoxelGrid::denseSlot(const Eigen::Vector3i& offset) const {
+  return (static_cast<std::size_t>(offset(0)) * static_cast<std::size_t>(dense_size_(1)) +
+          static_cast<std::size_t>(offset(1))) *
+             static_cast<std::size_t>(dense_size_(2)) +
+         static_cast<std::size_t>(offset(2));
+}
+
 int NdtVoxelGrid::find(const Eigen::Vector3i& cell) const {
   if (!dense_.empty()) {
     const Eigen::Vector3i d = cell - dense_origin_;
     if (d(0) < 0 || d(1) < 0 || d(2) < 0 || d(0) >= dense_size_(0) || d(1) >= dense_size_(1) || d(2) >= dense_size_(2))
       return -1;
-    return dense_[(static_cast<std::size_t>(d(0)) * static_cast<std::size_t>(dense_size_(1)) +
-                   static_cast<std::size_t>(d(1))) *
-                      static_cast<std::size_t>(dense_size_(2)) +
-                  static_cast<std::size_t>(d(2))];
+    return dense_[denseSlot(d)];
   }
   if (!inRange(cell)) return -1;
   const auto it = index_.find(pack(cell));
@@ -126,9 +130,7 @@ NdtVoxelGrid::NdtVoxelGrid(const std::vector<Eigen::Vector3d>& points, double re
     dense_.assign(static_cast<std::size_t>(entries), -1);
     for (std::size_t k = 0; k < cell_keys.size(); ++k) {
       const Eigen::Vector3i d = cell_keys[k] - lo;
-      dense_[(static_cast<std::size_t>(d(0)) * static_cast<std::size_t>(size(1)) + static_cast<std::size_t>(d(1))) *
-                 static_cast<std::size_t>(size(2)) +
-             static_cast<std::size_t>(d(2))] = static_cast<int>(k);
+      dense_[denseSlot(d)] = static_cast<int>(k);
     }
     std::unordered_map<std::int64_t, int>().swap(index_);
   }

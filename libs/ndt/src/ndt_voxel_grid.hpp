@@ -39,6 +39,8 @@ public:
 private:
   Eigen::Vector3i cellOf(const Eigen::Vector3d& point) const;
   int find(const Eigen::Vector3i& cell) const;
+  // Position in dense_ of a cell's offset from dense_origin_ (inside the box).
+  std::size_t denseSlot(const Eigen::Vector3i& offset) const;
 
   double resolution_;
   std::vector<NdtCell> cells_;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <utility>
 
@@ -360,8 +361,9 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
       const auto start = Clock::now();
       const std::size_t last = std::min(n, first + chunk);
       std::vector<RangeScan> placed(last - first);
-      std::vector<std::vector<std::uint8_t>> masks(objects.begin() + static_cast<std::ptrdiff_t>(first),
-                                                   objects.begin() + static_cast<std::ptrdiff_t>(last));
+      // The object masks are read by nothing after the fusion.
+      std::vector<std::vector<std::uint8_t>> masks(std::make_move_iterator(objects.begin() + static_cast<std::ptrdiff_t>(first)),
+                                                   std::make_move_iterator(objects.begin() + static_cast<std::ptrdiff_t>(last)));
       tbb::parallel_for(first, last, [&](std::size_t i) {
         RangeScan scan = scans[i].restore();
         const Eigen::Isometry3d correction = result.poses[i] * scan.sensor_pose.inverse();
