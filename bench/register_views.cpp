@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
       else if (name == "max_icp_points") r.icp_max_source_points = static_cast<std::size_t>(value);
       else if (name == "min_normalized_score") r.min_normalized_score = value;
       else if (name == "model_max_translation") r.model_alignment_max_translation = value;
+      else if (name == "incremental") r.incremental = value != 0;
       else throw InputError(name, "", "not a parameter this tool sets");
     }
     const auto start = std::chrono::steady_clock::now();

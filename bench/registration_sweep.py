@@ -28,6 +28,7 @@ already there is not redone) and prints a Markdown summary.
 Benchmark only (Debian python3-open3d and the system interpreter).
 """
 import argparse
+import shlex
 import glob
 import json
 import os
@@ -193,7 +194,7 @@ def main():
     ap.add_argument("--sim-seed", type=int, default=41)
     ap.add_argument("--tools", default="icrkit,open3d")
     ap.add_argument("--tag", default="", help="a label for icrkit's runs (a variant being tried)")
-    ap.add_argument("--icrkit-flag", default="", help="passed to bench_register_views (e.g. --no-model-alignment)")
+    ap.add_argument("--icrkit-flag", default="", help="passed to bench_register_views (e.g. --no-model-alignment, '--set incremental=1')")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     log_path = os.path.join(a.work, "runs.jsonl")
@@ -229,7 +230,7 @@ def main():
                     poses_file = os.path.join(rundir, tool.replace(":", "_") + ".txt")
                     if tool.startswith("icrkit"):
                         summary = json.loads(run([os.path.join(a.build, "bench", "bench_register_views"), rundir,
-                                                  "-o", poses_file] + ([a.icrkit_flag] if a.icrkit_flag else [])))
+                                                  "-o", poses_file] + shlex.split(a.icrkit_flag)))
                     else:
                         summary = json.loads(run([os.path.join(here, "open3d_multiway.py"), rundir, "-o", poses_file],
                                                  env=dict(os.environ, PYTHONDONTWRITEBYTECODE="1")))

@@ -70,6 +70,9 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
   command.add_flag("--scan-to-model", options.scan_to_model,
                    "Register each scan against the scans before it first (the paper's sequential pass; slower, "
                    "rarely better: docs/reconstruction.md)");
+  command.add_flag("--register-as-scans-arrive", options.incremental_registration,
+                   "Register each scan with the earlier ones as it is read (what a stream does to be ready soon "
+                   "after its last frame) instead of all views together at the end: docs/reconstruction_input.md");
   command.add_option("--write-registration-input", options.write_registration_input,
                      "Also write each scan's object points (sensor frame) and starting pose to this folder "
                      "(view_NNN.ply, start.txt): the registration's exact input, for other tools");
@@ -146,6 +149,7 @@ reconstruction::ReconstructionParameters reconstructionParameters(const Reconstr
   params.remove_support_plane = !options.no_plane;
   params.register_scans = !options.no_registration;
   params.registration.scan_to_model = options.scan_to_model;
+  params.registration.incremental = options.incremental_registration;
   params.keep_registration_input = !options.write_registration_input.empty();
   if (params.keep_registration_input && options.no_registration)
     throw InputError("--write-registration-input", "", "needs registration (drop --no-registration)");

@@ -30,6 +30,7 @@ struct ReconstructOptions {
   bool no_plane = false;
   bool no_registration = false;
   bool scan_to_model = false;
+  bool incremental_registration = false;
   std::string write_registration_input;
   bool no_jump_edges = false;
   bool no_meshes = false;

@@ -74,6 +74,7 @@ class Reconstructor:
         smoothing: str = ...,
         meshes: bool = ...,
         raw_mesh: bool = ...,
+        register_as_scans_arrive: bool = ...,
     ) -> None: ...
     def add_depth(
         self,

@@ -122,7 +122,7 @@ void bindReconstructor(py::module_& m) {
                               "kept until the next add. Poses are 4x4 camera-to-object matrices in the camera's "
                               "optical axes (x right, y down, z forward: ROS, TUM, OpenCV).")
       .def(py::init([](std::optional<std::vector<double>> crop_box, double auto_crop_half_size, bool register_scans,
-                       const std::string& smoothing, bool meshes, bool raw_mesh) {
+                       const std::string& smoothing, bool meshes, bool raw_mesh, bool register_as_scans_arrive) {
              reconstruction::ReconstructionParameters params;
              if (crop_box) {
                if (crop_box->size() != 6)
@@ -132,6 +132,7 @@ void bindReconstructor(py::module_& m) {
              }
              params.auto_crop_half_size = auto_crop_half_size;
              params.register_scans = register_scans;
+             params.registration.incremental = register_as_scans_arrive;
              if (smoothing == "paper")
                params.smoothing.max_normal_angle = M_PI;
              else if (smoothing != "feature")
@@ -142,11 +143,15 @@ void bindReconstructor(py::module_& m) {
            }),
            py::arg("crop_box") = py::none(), py::arg("auto_crop_half_size") = 0.15, py::arg("register") = true,
            py::arg("smoothing") = "feature", py::arg("meshes") = true, py::arg("raw_mesh") = true,
+           py::arg("register_as_scans_arrive") = false,
            "`crop_box`: the object's region (object frame, metres); None: a cube of 2 x auto_crop_half_size where "
            "the views' optical axes meet. `register`: false keeps the given poses. `smoothing`: 'feature' "
            "(one-sided windows, the default of `icrkit reconstruct`) or 'paper' (Algorithm 1 as published). "
            "`raw_mesh`: false skips the paper's raw baseline (meshes() then gives (None, filtered)): a robot grasps "
-           "the filtered mesh, which then comes a third sooner.")
+           "the filtered mesh, which then comes a third sooner. `register_as_scans_arrive`: each add registers its view "
+           "with the earlier ones (the GIL released), so that cloud()/meshes() after the last scan only solve the pose "
+           "graph, fuse and mesh; the result then differs from `icrkit reconstruct` without "
+           "--register-as-scans-arrive (docs/reconstruction_input.md).")
       .def(
           "add_depth",
           [](PyReconstructor& self, const py::array& depth, const std::vector<double>& intrinsics,

@@ -115,6 +115,7 @@ Json registrationJson(const ReconstructionResult& result, const ReconstructionPa
           {"ndt_resolutions_m", r.resolutions},
           {"pair_variance_factor", r.pair_variance_factor},
           {"scan_to_model", params.registration.scan_to_model},
+          {"as_scans_arrive", params.registration.incremental},
           {"multiway_rounds", r.refinement_rounds},
           {"model_alignment",
            {{"resolutions_m", params.registration.model_alignment_resolutions},

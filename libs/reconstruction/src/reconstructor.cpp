@@ -94,6 +94,32 @@ PointCloud objectPointsInSensorFrame(const RangeScan& scan, const std::vector<st
   return cloud;
 }
 
+// The views' optical axes must spread this far (radians, from the first
+// view's) before an automatic crop box is placed from them as the scans
+// arrive: nearly parallel axes meet far from the object.
+constexpr double kAutoCropSpread = 0.5;
+
+// Whether the optical axes (MRPT sensor x) of `poses` spread enough to
+// place the automatic crop box where they meet.
+bool axesSpread(const std::vector<Eigen::Isometry3d>& poses) {
+  if (poses.size() < 3) return false;
+  const Eigen::Vector3d first = poses.front().rotation().col(0).normalized();
+  for (const Eigen::Isometry3d& pose : poses)
+    if (std::acos(std::clamp(first.dot(pose.rotation().col(0).normalized()), -1.0, 1.0)) >= kAutoCropSpread)
+      return true;
+  return false;
+}
+
+// What the crop box and the board make of one scan: its object points,
+// the filter record, and the board's pose prior.
+struct SelectedScan {
+  std::vector<std::uint8_t> object;
+  ScanFilterRecord record;
+  LatticePose board_pose;
+  bool board_rejected = false;
+  std::optional<PosePrior> board_prior;
+};
+
 }  // namespace
 
 struct Reconstructor::Impl {
@@ -144,10 +170,100 @@ struct Reconstructor::Impl {
     }
     stored.scan = std::move(scan);
     scans.push_back(std::move(stored));
+    if (params.registration.incremental) {
+      placeBox();
+      advance();
+    }
   }
 
-  ReconstructionResult compute(const ProgressCallback& progress) const;
+  SelectedScan select(const StoredScan& stored, const RangeScan& scan, const Eigen::AlignedBox3d& box) const;
+
+  // Registration as the scans arrive (params.registration.incremental):
+  // once the crop box is known, every scan is selected and registered by
+  // add(); update() solves the graph from there.
+  std::optional<Eigen::AlignedBox3d> live_box;
+  bool live_box_automatic = false;
+  std::optional<SequenceRegistration> live;
+  std::vector<SelectedScan> live_scans;  // per scan handed to `live`
+  std::optional<InputError> live_error;  // a scan that cannot be registered: thrown by update()
+  double live_filter_ms = 0.0;
+  double live_registration_ms = 0.0;
+  double live_spacing_m = 0.0;
+  void placeBox();
+  void advance();
+
+  ReconstructionResult compute(const ProgressCallback& progress);
 };
+
+SelectedScan Reconstructor::Impl::select(const StoredScan& stored, const RangeScan& scan,
+                                         const Eigen::AlignedBox3d& box) const {
+  SelectedScan out;
+  out.record = stored.sensor_filters;
+  selectObjectPoints(scan, params, box, out.object, out.record);
+  if (params.board) {
+    const LatticePose& board_pose = stored.board_pose;
+    if (board_pose.found) {
+      const Eigen::Isometry3d change = scan.sensor_pose.inverse() * board_pose.sensor_pose;
+      out.board_rejected = change.translation().norm() > 0.5 * params.board->square_size ||
+                           Eigen::AngleAxisd(change.rotation()).angle() > params.board_max_rotation;
+    }
+    if (board_pose.found && !out.board_rejected)
+      out.board_prior =
+          PosePrior{board_pose.sensor_pose, params.board_prior_sigma_translation, params.board_prior_sigma_rotation};
+    out.board_pose = board_pose;
+  }
+  return out;
+}
+
+void Reconstructor::Impl::placeBox() {
+  if (live_box) return;
+  if (params.crop_box) {
+    live_box = *params.crop_box;
+    return;
+  }
+  std::vector<Eigen::Isometry3d> poses;
+  for (const StoredScan& s : scans) poses.push_back(s.scan.sensor_pose);
+  if (!axesSpread(poses)) return;
+  if (const std::optional<Eigen::Vector3d> centre = convergencePoint(poses)) {
+    const Eigen::Vector3d half = Eigen::Vector3d::Constant(params.auto_crop_half_size);
+    live_box = Eigen::AlignedBox3d(*centre - half, *centre + half);
+    live_box_automatic = true;
+  }
+}
+
+void Reconstructor::Impl::advance() {
+  if (!live_box || live_error) return;
+  if (!live && params.register_scans) live.emplace(params.registration);
+  while (live_scans.size() < scans.size()) {
+    const std::size_t i = live_scans.size();
+    auto start = Clock::now();
+    const RangeScan scan = scans[i].restore();
+    SelectedScan selected = select(scans[i], scan, *live_box);
+    live_filter_ms += msSince(start);
+    if (selected.record.object_points == 0) {
+      live_error = InputError(source, where(i),
+                              "no points left inside the crop box after filtering (check the crop box and the poses)");
+      return;
+    }
+    if (i == 0) {
+      std::vector<Eigen::Vector3d> object_points;
+      for (std::size_t k = 0; k < scan.points.size(); ++k)
+        if (selected.object[k]) object_points.push_back(scan.points[k]);
+      live_spacing_m = nearestNeighbourSpacing(object_points).median;
+    }
+    if (live) {
+      start = Clock::now();
+      try {
+        live->add(objectPointsInSensorFrame(scan, selected.object), scan.sensor_pose, selected.board_prior);
+      } catch (const InputError& e) {
+        live_error = e;
+        return;
+      }
+      live_registration_ms += msSince(start);
+    }
+    live_scans.push_back(std::move(selected));
+  }
+}
 
 Reconstructor::Reconstructor(ReconstructionParameters params, std::string source) : impl_(std::make_unique<Impl>()) {
   validateReconstructionParameters(params);
@@ -254,7 +370,7 @@ std::size_t Reconstructor::storedBytes() const {
   return bytes;
 }
 
-ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progress) const {
+ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progress) {
   const auto total_start = Clock::now();
   ReconstructionResult result;
   ReconstructionTimes& times = result.times;
@@ -271,8 +387,13 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     result.timestamps.push_back(s.scan.timestamp);
   }
 
+  const bool incremental = params.registration.incremental;
   if (params.crop_box) {
     result.crop_box = *params.crop_box;
+  } else if (incremental && live_box) {
+    // Placed as the scans arrived, from the first views that spread enough.
+    result.crop_box = *live_box;
+    result.crop_box_automatic = live_box_automatic;
   } else {
     const std::optional<Eigen::Vector3d> centre = convergencePoint(result.reported_poses);
     const bool one_pose = n > 1 && std::all_of(result.reported_poses.begin(), result.reported_poses.end(),
@@ -294,58 +415,81 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
 
   // The object's points of every scan, and their registration.
   std::vector<std::vector<std::uint8_t>> objects(n);
-  std::optional<SequenceRegistration> registration;
-  if (params.register_scans) registration.emplace(params.registration);
-  for (std::size_t i = 0; i < n; ++i) {
-    const StoredScan& stored = scans[i];
-    auto start = Clock::now();
-    const RangeScan scan = stored.restore();
-    ScanFilterRecord& record = result.filters.emplace_back(stored.sensor_filters);
-    selectObjectPoints(scan, params, result.crop_box, objects[i], record);
-    times.filter_ms += msSince(start);
-    std::optional<PosePrior> board_prior;
+  auto record = [&](SelectedScan& selected) {
+    result.filters.push_back(selected.record);
     if (params.board) {
-      const LatticePose& board_pose = stored.board_pose;
-      bool rejected = false;
-      if (board_pose.found) {
-        const Eigen::Isometry3d change = scan.sensor_pose.inverse() * board_pose.sensor_pose;
-        rejected = change.translation().norm() > 0.5 * params.board->square_size ||
-                   Eigen::AngleAxisd(change.rotation()).angle() > params.board_max_rotation;
-      }
-      if (board_pose.found && !rejected) {
-        board_prior =
-            PosePrior{board_pose.sensor_pose, params.board_prior_sigma_translation, params.board_prior_sigma_rotation};
-        ++result.poses_from_board;
-      }
-      result.board_poses.push_back(board_pose);
-      result.board_pose_rejected.push_back(rejected ? 1 : 0);
+      if (selected.board_prior) ++result.poses_from_board;
+      result.board_poses.push_back(selected.board_pose);
+      result.board_pose_rejected.push_back(selected.board_rejected ? 1 : 0);
     }
-    if (record.object_points == 0)
-      throw InputError(source, where(i),
-                       "no points left inside the crop box after filtering (check the crop box and the poses)");
-    if (i == 0) {
-      std::vector<Eigen::Vector3d> object_points;
-      for (std::size_t k = 0; k < scan.points.size(); ++k)
-        if (objects[i][k]) object_points.push_back(scan.points[k]);
-      result.scan_spacing_m = nearestNeighbourSpacing(object_points).median;
+  };
+  if (incremental) {
+    // The views never spread enough to place the box as they came: it is
+    // placed from all of them now, and the scans registered.
+    if (!live_box) {
+      live_box = result.crop_box;
+      live_box_automatic = result.crop_box_automatic;
+    }
+    advance();
+    if (live_error) throw *live_error;
+    times.filter_ms += live_filter_ms;
+    times.registration_ms += live_registration_ms;
+    result.scan_spacing_m = live_spacing_m;
+    for (std::size_t i = 0; i < n; ++i) {
+      SelectedScan& selected = live_scans[i];
+      record(selected);
+      // Kept for the next update(): more scans may come.
+      objects[i] = selected.object;
+      if (params.keep_registration_input)
+        result.registration_input.push_back(objectPointsInSensorFrame(scans[i].restore(), selected.object));
+    }
+    report(progress, "registration", n, n);
+    if (live) {
+      const auto start = Clock::now();
+      result.registration = live->finish();
+      result.poses = result.registration.poses;
+      times.registration_ms += msSince(start);
+    } else {
+      result.poses = result.reported_poses;
+    }
+  } else {
+    std::optional<SequenceRegistration> registration;
+    if (params.register_scans) registration.emplace(params.registration);
+    for (std::size_t i = 0; i < n; ++i) {
+      const StoredScan& stored = scans[i];
+      auto start = Clock::now();
+      const RangeScan scan = stored.restore();
+      SelectedScan selected = select(stored, scan, result.crop_box);
+      record(selected);
+      objects[i] = std::move(selected.object);
+      times.filter_ms += msSince(start);
+      if (result.filters.back().object_points == 0)
+        throw InputError(source, where(i),
+                         "no points left inside the crop box after filtering (check the crop box and the poses)");
+      if (i == 0) {
+        std::vector<Eigen::Vector3d> object_points;
+        for (std::size_t k = 0; k < scan.points.size(); ++k)
+          if (objects[i][k]) object_points.push_back(scan.points[k]);
+        result.scan_spacing_m = nearestNeighbourSpacing(object_points).median;
+      }
+      if (registration) {
+        start = Clock::now();
+        PointCloud points = objectPointsInSensorFrame(scan, objects[i]);
+        registration->add(points, scan.sensor_pose, selected.board_prior);
+        if (params.keep_registration_input) result.registration_input.push_back(std::move(points));
+        times.registration_ms += msSince(start);
+      }
+      report(progress, "registration", i + 1, n);
     }
     if (registration) {
-      start = Clock::now();
-      PointCloud points = objectPointsInSensorFrame(scan, objects[i]);
-      registration->add(points, scan.sensor_pose, board_prior);
-      if (params.keep_registration_input) result.registration_input.push_back(std::move(points));
+      const auto start = Clock::now();
+      result.registration = registration->finish();
+      registration.reset();
+      result.poses = result.registration.poses;
       times.registration_ms += msSince(start);
+    } else {
+      result.poses = result.reported_poses;
     }
-    report(progress, "registration", i + 1, n);
-  }
-  if (registration) {
-    const auto start = Clock::now();
-    result.registration = registration->finish();
-    registration.reset();
-    result.poses = result.registration.poses;
-    times.registration_ms += msSince(start);
-  } else {
-    result.poses = result.reported_poses;
   }
 
   // Fusion of the whole scans at their registered poses.

@@ -18,12 +18,15 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-TEST(RealRecordingRegistration, PrimeSenseBunnyFromItsReportedPoses) {
+// Both ways of registering (all views together at the end, or each as it
+// arrives) must get every view of the real recording home.
+void checkPrimeSenseBunny(bool incremental) {
   const std::string dir = std::string(ICRKIT_SHARED_DATA_DIR) + "/primesense-bunny";
   if (!std::filesystem::exists(dir + "/scans.rawlog") || !std::filesystem::exists(dir + "/ground_truth.txt"))
     GTEST_SKIP() << "shared test data not found: " << dir;
   ReconstructionParameters params;
   params.make_meshes = false;
+  params.registration.incremental = incremental;
   const ReconstructionResult r = reconstructRawlog(dir + "/scans.rawlog", params);
   // Its stored rotation matrices are off by up to 8.5e-3: projected, counted.
   EXPECT_EQ(r.poses_orthonormalised, r.poses.size());
@@ -55,6 +58,11 @@ TEST(RealRecordingRegistration, PrimeSenseBunnyFromItsReportedPoses) {
   EXPECT_GT(r.registration.measured_odometry_sigma_translation_m, 2e-3);
   EXPECT_GT(r.registration.odometry_sigma_translation_m, 2e-3);
 }
+
+TEST(RealRecordingRegistration, PrimeSenseBunnyFromItsReportedPoses) { checkPrimeSenseBunny(false); }
+
+// Measured 2.43 mm / 0.60 deg median (all views together: 2.47 / 0.59).
+TEST(RealRecordingRegistration, PrimeSenseBunnyRegisteredAsTheScansArrive) { checkPrimeSenseBunny(true); }
 
 }  // namespace
 }  // namespace icrkit::reconstruction

@@ -86,6 +86,55 @@ TEST(Reconstructor, ResultDoesNotDependOnWhenUpdateIsCalled) {
   expectSameReconstruction(as_they_come.update(), reference);
 }
 
+// Registered as the scans arrive (SequenceRegistrationParameters::
+// incremental): add() does the registration's per-view work, update()
+// solves from there, and the result is still a function of the scans alone.
+TEST(Reconstructor, RegisteredAsTheScansArriveDoesNotDependOnWhenUpdateIsCalled) {
+  const std::vector<RangeScan> scans = readAllScans(simulatedRecording(6, false) + "/scans.rawlog");
+  ReconstructionParameters params;
+  params.make_meshes = false;
+  params.registration.incremental = true;
+  Reconstructor all_at_once(params);
+  for (const RangeScan& scan : scans) all_at_once.add(scan);
+  const ReconstructionResult& reference = all_at_once.update();
+  EXPECT_EQ(reference.registration.model_alignment_accepted.size(), 3u);
+
+  Reconstructor as_they_come(params);
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    as_they_come.add(scans[i]);
+    if (i == 3) EXPECT_EQ(as_they_come.update().poses.size(), 4u);
+  }
+  expectSameReconstruction(as_they_come.update(), reference);
+
+  // Close to all views registered together at the end.
+  params.registration.incremental = false;
+  Reconstructor together(params);
+  for (const RangeScan& scan : scans) together.add(scan);
+  const ReconstructionResult& batch = together.update();
+  EXPECT_TRUE(batch.crop_box.isApprox(reference.crop_box, 1e-9) || reference.crop_box_automatic);
+  const Eigen::Vector3d centre = reference.crop_box.center();
+  for (std::size_t i = 0; i < scans.size(); ++i)
+    EXPECT_LT((reference.poses[i] * batch.poses[i].inverse() * centre - centre).norm(), 1.5e-3) << "view " << i;
+}
+
+TEST(Reconstructor, RegisteredAsTheScansArriveReportsAViewWithoutObjectAtUpdate) {
+  const std::vector<RangeScan> scans = readAllScans(simulatedRecording(6, false) + "/scans.rawlog");
+  ReconstructionParameters params;
+  params.make_meshes = false;
+  params.registration.incremental = true;
+  // Far from the object: nothing of any scan inside.
+  params.crop_box = Eigen::AlignedBox3d(Eigen::Vector3d(10, 10, 10), Eigen::Vector3d(11, 11, 11));
+  Reconstructor reconstructor(params, "stream");
+  for (const RangeScan& scan : scans) EXPECT_NO_THROW(reconstructor.add(scan));
+  try {
+    reconstructor.update();
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scan 0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("crop box"), std::string::npos) << e.what();
+  }
+}
+
 // A synthetic 64 x 48 view of a tilted plane 0.8-0.9 m away.
 std::vector<std::uint16_t> planeInMillimetres(int width, int height) {
   std::vector<std::uint16_t> counts(static_cast<std::size_t>(width) * height);

@@ -145,6 +145,26 @@ Matrix6d hessianInformation(const Matrix6d& hessian, const Matrix6d& projector, 
   return 0.5 * (right + right.transpose());
 }
 
+// Per scan, built once and shared read-only by every pair it is part of:
+// its NDT target, and for the fine stage its tangent planes (target side)
+// and a sparser copy of its points (source side); and the cubes it lends
+// the model alignment.
+struct ScanParts {
+  std::optional<ndt::NdtTarget> ndt_target;
+  std::optional<IcpTarget> icp_target;
+  std::vector<Eigen::Vector3d> icp_source, ndt_source, model_points;
+};
+
+// Cubes (metres) a view's points are reduced to when it is part of another
+// view's model: a 1 cm NDT cell then gets ~16 points per view that sees it.
+constexpr double kModelAlignmentVoxel = 0.0025;
+
+// Incremental alignment: a view is aligned to the earlier ones when at
+// least this fraction of its 2 cm cubes (coarse enough that a reported
+// pose a centimetre off still finds them) is occupied by them.
+constexpr double kCoverageCube = 0.02;
+constexpr double kMinAlignmentCoverage = 0.3;
+
 void validate(const SequenceRegistrationParameters& p) {
   auto positive = [](double v, const char* name) {
     if (!(v > 0) || !std::isfinite(v)) throw InputError(name, "", "expected a positive number");
@@ -175,6 +195,23 @@ struct SequenceRegistration::Impl {
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();  // latest model_pose * initial_pose^-1
   double time_ms = 0.0;
   bool finished = false;
+
+  // Incremental registration (params.incremental): built by add() as the
+  // scans arrive.
+  std::vector<ScanParts> parts;
+  std::vector<Eigen::Isometry3d> aligned;  // each view after its alignment to the earlier ones
+  std::vector<std::vector<std::int64_t>> cubes;  // the 1 cm cubes each view occupies at `aligned`
+  std::vector<PairRegistrationRecord> early_pairs;  // every view with its best earlier partners
+  std::vector<Matrix6d> early_hessians, early_projectors;
+  std::vector<std::size_t> level_kept;  // views the alignment kept, per level
+  std::vector<std::int64_t> covered_cubes;  // kCoverageCube cubes the views so far occupy, sorted
+
+  void prepare(std::size_t i, ScanParts& out);
+  void registerPair(const std::vector<ScanParts>& all, const std::vector<Eigen::Isometry3d>& poses, int round,
+                    PairRegistrationRecord& pair, Matrix6d& hessian, Matrix6d& projector) const;
+  void alignAndPair(std::size_t i);
+  void firstRoundPairs(std::vector<PairRegistrationRecord>& pairs, std::vector<Matrix6d>& hessians,
+                       std::vector<Matrix6d>& projectors) const;
 
   std::vector<Eigen::Vector3d> reduce(const PointCloud& cloud) const {
     // The NDT reduces its source to cube centroids itself; reducing once
@@ -331,6 +368,13 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
   s.time_ms += record.time_ms;
   s.priors.push_back(prior);
   s.records.push_back(std::move(record));
+  if (s.params.incremental) {
+    const auto aligning = Clock::now();
+    s.alignAndPair(index);
+    const double ms = msSince(aligning);
+    s.records.back().time_ms += ms;
+    s.time_ms += ms;
+  }
   return s.records.back();
 }
 
@@ -403,9 +447,81 @@ double robustSigma(std::vector<double> magnitudes) {
 
 namespace {
 
-// Cubes (metres) a view's points are reduced to when it is part of another
-// view's model: a 1 cm NDT cell then gets ~16 points per view that sees it.
-constexpr double kModelAlignmentVoxel = 0.0025;
+// One level of the model alignment: an NDT with `resolution` cells and
+// no further reduction of the source.
+ndt::NdtParameters alignmentLevel(const SequenceRegistrationParameters& params, double resolution) {
+  ndt::NdtParameters level = params.ndt;
+  level.resolutions = {resolution};
+  level.source_voxel_size = 0.0;
+  return level;
+}
+
+// A coarse cell needs no 2.5 mm detail: the views' 5 mm cubes give it as
+// many points per cell as the finer ones give a 1 cm cell.
+bool coarseAlignmentLevel(const SequenceRegistrationParameters& params, double resolution) {
+  return resolution >= 8.0 * params.pair_ndt_source_voxel_size;
+}
+
+// One view against a model of other views at one level, from `from`: its
+// pose when the result is kept (near the reported pose, scored well
+// enough). `reported` is the robot's pose (the limits), `reduced` and
+// `normals` the view's points and normals (its observability), `source`
+// the points registered and `centroid` theirs. Throws InputError when the
+// NDT cannot run.
+std::optional<Eigen::Isometry3d> alignView(const SequenceRegistrationParameters& params, const ndt::NdtTarget& target,
+                                           double resolution, const Eigen::Isometry3d& reported,
+                                           const std::vector<Eigen::Vector3d>& reduced,
+                                           const std::vector<Eigen::Vector3d>& normals,
+                                           const std::vector<Eigen::Vector3d>& sources, const Eigen::Vector3d& centroid,
+                                           const Eigen::Isometry3d& from_pose) {
+  const ndt::NdtParameters level = alignmentLevel(params, resolution);
+  const PointCloud source = positionsOnly(sources);
+  // The NDT from `from`; its result when it is kept.
+  auto attempt = [&](const Eigen::Isometry3d& from) -> std::optional<ndt::NdtResult> {
+    ndt::NdtResult r = ndt::registerNdt(source, target, from, level);
+    if (params.degeneracy_ratio > 0)
+      remapDegenerate(r, from, scanObservability(reduced, normals, from, params.degeneracy_ratio));
+    const bool near = (r.pose * centroid - reported * centroid).norm() <= params.model_alignment_max_translation &&
+                      rotationAngle(r.pose * reported.inverse()) <= params.model_alignment_max_rotation;
+    if (near && r.normalized_score >= params.min_normalized_score && finitePose(r.pose)) return r;
+    return std::nullopt;
+  };
+  std::optional<ndt::NdtResult> best = attempt(from_pose);
+  // A view the coarsest level could not place (from tens of millimetres
+  // off it turned around a round object instead): again from the camera
+  // turned a little about its two axes across the line of sight, which
+  // moves the object sideways in the image; the best score of those kept
+  // wins.
+  if (!best && resolution == params.model_alignment_resolutions.front() && params.model_alignment_retry_angle > 0) {
+    const double a = params.model_alignment_retry_angle;
+    for (int u = -1; u <= 1; ++u)
+      for (int v = -1; v <= 1; ++v) {
+        if (u == 0 && v == 0) continue;
+        const Eigen::Isometry3d turned = from_pose * Eigen::AngleAxisd(u * a, Eigen::Vector3d::UnitY()) *
+                                         Eigen::AngleAxisd(v * a, Eigen::Vector3d::UnitZ());
+        std::optional<ndt::NdtResult> r = attempt(turned);
+        if (r && (!best || r->normalized_score > best->normalized_score)) best = r;
+      }
+  }
+  if (!best) return std::nullopt;
+  return best->pose;
+}
+
+// The median and largest move of the views' points from `start` to `poses`.
+void recordAlignmentMoves(const std::vector<ScanParts>& parts, const std::vector<Eigen::Isometry3d>& start,
+                          const std::vector<Eigen::Isometry3d>& poses, SequenceRegistrationResult& result) {
+  std::vector<double> moves;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (parts[i].ndt_source.empty()) continue;
+    const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
+    moves.push_back((poses[i] * centroid - start[i] * centroid).norm());
+  }
+  if (!moves.empty()) {
+    result.model_alignment_max_move_m = *std::max_element(moves.begin(), moves.end());
+    std::nth_element(moves.begin(), moves.begin() + static_cast<std::ptrdiff_t>(moves.size() / 2), moves.end());
+    result.model_alignment_median_move_m = moves[moves.size() / 2];
+  }
+}
 
 // The model alignment (SequenceRegistrationParameters::
 // model_alignment_resolutions): every view against the union of the others,
@@ -414,63 +530,29 @@ constexpr double kModelAlignmentVoxel = 0.0025;
 // each view's points and normals (its observability).
 void alignToOthers(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
                    const std::vector<std::vector<Eigen::Vector3d>>& reduced,
-                   const std::vector<std::vector<Eigen::Vector3d>>& normals,
-                   const std::vector<std::vector<Eigen::Vector3d>>& sources,
-                   const std::vector<std::vector<Eigen::Vector3d>>& model_points, std::vector<Eigen::Isometry3d>& poses,
-                   SequenceRegistrationResult& result) {
+                   const std::vector<std::vector<Eigen::Vector3d>>& normals, const std::vector<ScanParts>& parts,
+                   std::vector<Eigen::Isometry3d>& poses, SequenceRegistrationResult& result) {
   const std::vector<Eigen::Isometry3d> start = poses;
   const std::size_t n = poses.size();
   std::vector<Eigen::Vector3d> centroids(n);
-  for (std::size_t i = 0; i < n; ++i) centroids[i] = centroidOf(sources[i]);
+  for (std::size_t i = 0; i < n; ++i) centroids[i] = centroidOf(parts[i].ndt_source);
   for (double resolution : params.model_alignment_resolutions) {
-    ndt::NdtParameters level = params.ndt;
-    level.resolutions = {resolution};
-    level.source_voxel_size = 0.0;
+    const ndt::NdtParameters level = alignmentLevel(params, resolution);
+    const bool coarse = coarseAlignmentLevel(params, resolution);
     std::vector<Eigen::Isometry3d> next = poses;
     std::vector<std::uint8_t> kept(n, 0);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-      if (sources[i].empty()) return;
-      // A coarse cell needs no 2.5 mm detail: the views' 5 mm cubes give it
-      // as many points per cell as the finer ones give a 1 cm cell.
-      const auto& points = resolution >= 8.0 * params.pair_ndt_source_voxel_size ? sources : model_points;
+      if (parts[i].ndt_source.empty()) return;
       PointCloud others;
       for (std::size_t j = 0; j < n; ++j)
         if (j != i)
-          for (const Eigen::Vector3d& p : points[j]) others.positions.push_back(poses[j] * p);
+          for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
+            others.positions.push_back(poses[j] * p);
       try {
         const ndt::NdtTarget target(others, level);
-        const PointCloud source = positionsOnly(sources[i]);
-        const Eigen::Vector3d& centroid = centroids[i];
-        // The NDT from `from`; its result when it is kept.
-        auto attempt = [&](const Eigen::Isometry3d& from) -> std::optional<ndt::NdtResult> {
-          ndt::NdtResult r = ndt::registerNdt(source, target, from, level);
-          if (params.degeneracy_ratio > 0)
-            remapDegenerate(r, from, scanObservability(reduced[i], normals[i], from, params.degeneracy_ratio));
-          const bool near =
-              (r.pose * centroid - reported[i] * centroid).norm() <= params.model_alignment_max_translation &&
-              rotationAngle(r.pose * reported[i].inverse()) <= params.model_alignment_max_rotation;
-          if (near && r.normalized_score >= params.min_normalized_score && finitePose(r.pose)) return r;
-          return std::nullopt;
-        };
-        std::optional<ndt::NdtResult> best = attempt(poses[i]);
-        // A view the coarsest level could not place (from tens of
-        // millimetres off it turned around a round object instead): again
-        // from the camera turned a little about its two axes across the
-        // line of sight, which moves the object sideways in the image; the
-        // best score of those kept wins.
-        if (!best && resolution == params.model_alignment_resolutions.front() && params.model_alignment_retry_angle > 0) {
-          const double a = params.model_alignment_retry_angle;
-          for (int u = -1; u <= 1; ++u)
-            for (int v = -1; v <= 1; ++v) {
-              if (u == 0 && v == 0) continue;
-              const Eigen::Isometry3d turned = poses[i] * Eigen::AngleAxisd(u * a, Eigen::Vector3d::UnitY()) *
-                                               Eigen::AngleAxisd(v * a, Eigen::Vector3d::UnitZ());
-              std::optional<ndt::NdtResult> r = attempt(turned);
-              if (r && (!best || r->normalized_score > best->normalized_score)) best = r;
-            }
-        }
-        if (best) {
-          next[i] = best->pose;
+        if (const auto pose = alignView(params, target, resolution, reported[i], reduced[i], normals[i],
+                                        parts[i].ndt_source, centroids[i], poses[i])) {
+          next[i] = *pose;
           kept[i] = 1;
         }
       } catch (const InputError&) {
@@ -480,84 +562,261 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
     poses = std::move(next);
     result.model_alignment_accepted.push_back(static_cast<std::size_t>(std::count(kept.begin(), kept.end(), 1)));
   }
-  std::vector<double> moves;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (sources[i].empty()) continue;
-    moves.push_back((poses[i] * centroids[i] - start[i] * centroids[i]).norm());
-  }
-  if (!moves.empty()) {
-    result.model_alignment_max_move_m = *std::max_element(moves.begin(), moves.end());
-    std::nth_element(moves.begin(), moves.begin() + static_cast<std::ptrdiff_t>(moves.size() / 2), moves.end());
-    result.model_alignment_median_move_m = moves[moves.size() / 2];
-  }
+  recordAlignmentMoves(parts, start, poses, result);
 }
 
 }  // namespace
+
+void SequenceRegistration::Impl::prepare(std::size_t i, ScanParts& out) {
+  try {
+    out.ndt_target.emplace(positionsOnly(reduced[i]), coarseNdt());
+  } catch (const InputError&) {
+    // Too few points for any Gaussian: the scan's pairs fail.
+  }
+  if (normals[i].size() != reduced[i].size()) normals[i] = surfaceNormals(reduced[i]);
+  VoxelModel coarse(params.pair_ndt_source_voxel_size);
+  coarse.add(reduced[i], Eigen::Isometry3d::Identity());
+  out.ndt_source = coarse.centroids().positions;
+  if (!params.model_alignment_resolutions.empty()) {
+    VoxelModel cubes(kModelAlignmentVoxel);
+    cubes.add(reduced[i], Eigen::Isometry3d::Identity());
+    out.model_points = cubes.centroids().positions;
+  }
+  if (!params.icp_refinement || reduced[i].size() < 3) return;
+  std::optional<std::vector<Eigen::Vector3d>> tangents = normals[i];
+  if (tangents->size() != reduced[i].size()) tangents = tangentNormals(reduced[i]);
+  if (!tangents) return;
+  out.icp_target.emplace(reduced[i], std::move(*tangents));
+  if (params.icp_source_voxel_size > 0) {
+    VoxelModel cubes(params.icp_source_voxel_size);
+    cubes.add(reduced[i], Eigen::Isometry3d::Identity());
+    out.icp_source = cubes.centroids().positions;
+  } else {
+    out.icp_source = reduced[i];
+  }
+  // A fixed stride keeps the points spread over the view (the cubes are
+  // in key order) and the cost bounded for dense views.
+  const std::size_t cap = std::max<std::size_t>(params.icp_max_source_points, 1);
+  if (out.icp_source.size() > cap) {
+    const double stride = double(out.icp_source.size()) / double(cap);
+    std::vector<Eigen::Vector3d> kept;
+    kept.reserve(cap);
+    for (std::size_t k = 0; k < cap; ++k) kept.push_back(out.icp_source[static_cast<std::size_t>(k * stride)]);
+    out.icp_source = std::move(kept);
+  }
+}
+
+void SequenceRegistration::Impl::registerPair(const std::vector<ScanParts>& all,
+                                              const std::vector<Eigen::Isometry3d>& poses, int round,
+                                              PairRegistrationRecord& pair, Matrix6d& hessian,
+                                              Matrix6d& projector) const {
+  const Eigen::Isometry3d implied = poses[pair.from].inverse() * poses[pair.to];
+  const bool fine = params.icp_refinement && all[pair.from].icp_target && !all[pair.to].icp_source.empty();
+  try {
+    ndt::NdtResult estimate;
+    estimate.pose = implied;
+    // The NDT's wide basin is needed only from the robot's poses; later
+    // rounds start from the graph's, within the ICP's reach.
+    if ((round == 0 && params.pair_ndt) || !fine) {
+      if (!all[pair.from].ndt_target) throw InputError("scan " + std::to_string(pair.from), "", "too few points for NDT");
+      const std::vector<Eigen::Vector3d>& source = fine ? all[pair.to].ndt_source : reduced[pair.to];
+      estimate = ndt::registerNdt(positionsOnly(source), *all[pair.from].ndt_target, implied, coarseNdt());
+      hessian = estimate.hessian;
+      pair.normalized_score = estimate.normalized_score;
+    } else {
+      estimate.normalized_score = 1.0;
+    }
+    if (fine) {
+      // Later rounds start within a millimetre or two: the coarse stages
+      // would only repeat the last one's work.
+      PointToPlaneIcpParameters icp_params = params.icp;
+      if (round > 0 && icp_params.max_distances.size() > 2)
+        icp_params.max_distances.erase(icp_params.max_distances.begin(), icp_params.max_distances.end() - 2);
+      if (round == 0 && !params.pair_ndt)
+        icp_params.max_distances.insert(icp_params.max_distances.begin(), params.icp_wide_distances.begin(),
+                                        params.icp_wide_distances.end());
+      const PointToPlaneIcpResult icp =
+          registerPointToPlane(all[pair.to].icp_source, *all[pair.from].icp_target, estimate.pose, icp_params);
+      pair.icp_inlier_fraction = icp.inlier_fraction;
+      pair.icp_rms_m = icp.rms_m;
+      if (icp.failed || icp.inlier_fraction < params.min_icp_inlier_fraction) {
+        pair.rejection = "ICP matched " + std::to_string(icp.correspondences) + " points (" +
+                         std::to_string(100.0 * icp.inlier_fraction) + " %), too little overlap";
+      } else {
+        estimate.pose = icp.pose;
+        // The residuals' variance turns sum J^T J into an information.
+        const double variance = std::max(icp.rms_m * icp.rms_m, 1e-12);
+        hessian = icp.hessian / variance;
+      }
+    }
+    const Observability o = scanObservability(reduced[pair.to], normals[pair.to], implied, params.degeneracy_ratio);
+    if (params.degeneracy_ratio > 0) {
+      remapDegenerate(estimate, implied, o);
+      projector = o.projector;
+    }
+    pair.degenerate_directions = o.degenerate_directions;
+    pair.weakest_direction_ratio = o.weakest_ratio;
+    if (pair.rejection.empty()) pair.rejection = judge(estimate, implied, reduced[pair.to], "the scan-to-model poses");
+    const Eigen::Isometry3d discrepancy = implied.inverse() * estimate.pose;
+    pair.discrepancy_translation_m = discrepancy.translation().norm();
+    pair.discrepancy_rotation_rad = rotationAngle(discrepancy);
+    if (pair.rejection.empty()) {
+      pair.accepted = true;
+      pair.measurement = estimate.pose;
+    }
+  } catch (const InputError& e) {
+    pair.rejection = std::string("NDT: ") + e.what();
+  }
+}
+
+void SequenceRegistration::Impl::alignAndPair(std::size_t i) {
+  parts.emplace_back();
+  prepare(i, parts.back());
+  const ScanRegistrationRecord& record = records[i];
+  Eigen::Isometry3d pose = record.model_pose;
+  level_kept.resize(params.model_alignment_resolutions.size(), 0);
+  // The earlier views must already cover most of this one: where they do
+  // not (the first view of a side not seen yet) the NDT slides along what
+  // little they share, tens of millimetres off on a sparse ToF view. Such a
+  // view keeps its reported pose; its pairs' NDT starts from there.
+  std::vector<std::int64_t> coarse_cubes;
+  for (const Eigen::Vector3d& p : parts[i].ndt_source) coarse_cubes.push_back(cubeKey(pose * p, kCoverageCube));
+  std::sort(coarse_cubes.begin(), coarse_cubes.end());
+  coarse_cubes.erase(std::unique(coarse_cubes.begin(), coarse_cubes.end()), coarse_cubes.end());
+  std::size_t covered = 0;
+  for (std::int64_t key : coarse_cubes) covered += std::binary_search(covered_cubes.begin(), covered_cubes.end(), key);
+  const bool covered_enough =
+      !coarse_cubes.empty() && double(covered) >= kMinAlignmentCoverage * double(coarse_cubes.size());
+  if (i > 0 && covered_enough) {
+    const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
+    for (std::size_t l = 0; l < params.model_alignment_resolutions.size(); ++l) {
+      const double resolution = params.model_alignment_resolutions[l];
+      const bool coarse = coarseAlignmentLevel(params, resolution);
+      PointCloud earlier;
+      for (std::size_t j = 0; j < i; ++j)
+        for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
+          earlier.positions.push_back(aligned[j] * p);
+      try {
+        const ndt::NdtTarget target(earlier, alignmentLevel(params, resolution));
+        if (const auto moved = alignView(params, target, resolution, record.initial_pose, reduced[i], normals[i],
+                                         parts[i].ndt_source, centroid, pose)) {
+          pose = *moved;
+          ++level_kept[l];
+        }
+      } catch (const InputError&) {
+        // Too few points for any Gaussian: the view stays where it is.
+      }
+    }
+  }
+  aligned.push_back(pose);
+  cubes.push_back(occupiedCubes(reduced[i], pose));
+  for (const Eigen::Vector3d& p : parts[i].ndt_source) covered_cubes.push_back(cubeKey(pose * p, kCoverageCube));
+  std::sort(covered_cubes.begin(), covered_cubes.end());
+  covered_cubes.erase(std::unique(covered_cubes.begin(), covered_cubes.end()), covered_cubes.end());
+  if (i == 0) return;
+
+  // Its best-overlapping earlier views, and the previous one.
+  std::vector<std::pair<double, std::size_t>> partners;
+  for (std::size_t j = 0; j < i; ++j) {
+    const double overlap = overlapFraction(cubes[j], cubes[i]);
+    if (overlap >= params.min_pair_overlap) partners.emplace_back(-overlap, j);
+  }
+  std::sort(partners.begin(), partners.end());
+  if (partners.size() > static_cast<std::size_t>(std::max(0, params.max_partners)))
+    partners.resize(static_cast<std::size_t>(std::max(0, params.max_partners)));
+  std::map<std::size_t, double> chosen;
+  for (const auto& [negative_overlap, j] : partners) chosen[j] = -negative_overlap;
+  if (params.sequence_pairs) chosen.emplace(i - 1, overlapFraction(cubes[i - 1], cubes[i]));
+  const std::size_t first = early_pairs.size();
+  for (const auto& [j, overlap] : chosen) {
+    PairRegistrationRecord pair;
+    pair.from = j;
+    pair.to = i;
+    pair.overlap = overlap;
+    early_pairs.push_back(pair);
+  }
+  early_hessians.resize(early_pairs.size(), Matrix6d::Zero());
+  early_projectors.resize(early_pairs.size(), Matrix6d::Identity());
+  tbb::parallel_for(first, early_pairs.size(), [&](std::size_t k) {
+    registerPair(parts, aligned, 0, early_pairs[k], early_hessians[k], early_projectors[k]);
+  });
+}
+
+void SequenceRegistration::Impl::firstRoundPairs(std::vector<PairRegistrationRecord>& pairs,
+                                                 std::vector<Matrix6d>& hessians,
+                                                 std::vector<Matrix6d>& projectors) const {
+  const std::size_t n = records.size();
+  pairs = early_pairs;
+  hessians = early_hessians;
+  projectors = early_projectors;
+  const bool has_loop = std::any_of(pairs.begin(), pairs.end(),
+                                    [&](const PairRegistrationRecord& p) { return p.from == 0 && p.to == n - 1; });
+  if (params.loop_closure && n >= 3 && !has_loop) {
+    // The loop closure: the last view against the first, known only now.
+    PairRegistrationRecord pair;
+    pair.from = 0;
+    pair.to = n - 1;
+    pair.overlap = overlapFraction(cubes[0], cubes[n - 1]);
+    Matrix6d hessian = Matrix6d::Zero(), projector = Matrix6d::Identity();
+    registerPair(parts, aligned, 0, pair, hessian, projector);
+    pairs.push_back(pair);
+    hessians.push_back(hessian);
+    projectors.push_back(projector);
+  }
+  // In the batch's order (by view pair), so that the graph is built alike.
+  std::vector<std::size_t> order(pairs.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::make_pair(pairs[a].from, pairs[a].to) < std::make_pair(pairs[b].from, pairs[b].to);
+  });
+  std::vector<PairRegistrationRecord> sorted_pairs;
+  std::vector<Matrix6d> sorted_hessians, sorted_projectors;
+  for (std::size_t k : order) {
+    sorted_pairs.push_back(pairs[k]);
+    sorted_hessians.push_back(hessians[k]);
+    sorted_projectors.push_back(projectors[k]);
+  }
+  pairs = std::move(sorted_pairs);
+  hessians = std::move(sorted_hessians);
+  projectors = std::move(sorted_projectors);
+}
 
 SequenceRegistrationResult SequenceRegistration::finish() {
   Impl& s = *impl_;
   if (s.finished) throw std::logic_error("SequenceRegistration::finish called twice");
   if (s.records.empty()) throw InputError("scan sequence", "", "no scans to register");
-  s.finished = true;
-  s.target.reset();
+  // Incremental: more scans may follow, registered against these.
+  if (!s.params.incremental) {
+    s.finished = true;
+    s.target.reset();
+  }
   const auto start = Clock::now();
   const SequenceRegistrationParameters& params = s.params;
   const std::size_t n = s.records.size();
   SequenceRegistrationResult result;
-  const ndt::NdtParameters pair_ndt = s.coarseNdt();
 
-  // Per scan, built once and shared read-only by every pair it is part of:
-  // its NDT target, and for the fine stage its tangent planes (target side)
-  // and a sparser copy of its points (source side).
-  std::vector<std::optional<ndt::NdtTarget>> ndt_targets(n);
-  std::vector<std::optional<IcpTarget>> icp_targets(n);
-  std::vector<std::vector<Eigen::Vector3d>> icp_sources(n), ndt_sources(n), model_points(n);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    try {
-      ndt_targets[i].emplace(positionsOnly(s.reduced[i]), pair_ndt);
-    } catch (const InputError&) {
-      // Too few points for any Gaussian: the scan's pairs fail.
-    }
-    if (s.normals[i].size() != s.reduced[i].size()) s.normals[i] = s.surfaceNormals(s.reduced[i]);
-    VoxelModel coarse(params.pair_ndt_source_voxel_size);
-    coarse.add(s.reduced[i], Eigen::Isometry3d::Identity());
-    ndt_sources[i] = coarse.centroids().positions;
-    if (!params.model_alignment_resolutions.empty()) {
-      VoxelModel cubes(kModelAlignmentVoxel);
-      cubes.add(s.reduced[i], Eigen::Isometry3d::Identity());
-      model_points[i] = cubes.centroids().positions;
-    }
-    if (!params.icp_refinement || s.reduced[i].size() < 3) return;
-    std::optional<std::vector<Eigen::Vector3d>> normals = s.normals[i];
-    if (normals->size() != s.reduced[i].size()) normals = tangentNormals(s.reduced[i]);
-    if (!normals) return;
-    icp_targets[i].emplace(s.reduced[i], std::move(*normals));
-    if (params.icp_source_voxel_size > 0) {
-      VoxelModel cubes(params.icp_source_voxel_size);
-      cubes.add(s.reduced[i], Eigen::Isometry3d::Identity());
-      icp_sources[i] = cubes.centroids().positions;
-    } else {
-      icp_sources[i] = s.reduced[i];
-    }
-    // A fixed stride keeps the points spread over the view (the cubes are
-    // in key order) and the cost bounded for dense views.
-    const std::size_t cap = std::max<std::size_t>(params.icp_max_source_points, 1);
-    if (icp_sources[i].size() > cap) {
-      const double stride = double(icp_sources[i].size()) / double(cap);
-      std::vector<Eigen::Vector3d> kept;
-      kept.reserve(cap);
-      for (std::size_t k = 0; k < cap; ++k) kept.push_back(icp_sources[i][static_cast<std::size_t>(k * stride)]);
-      icp_sources[i] = std::move(kept);
-    }
-  });
+  std::vector<ScanParts> built;
+  if (!params.incremental) {
+    built.resize(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { s.prepare(i, built[i]); });
+  }
+  const std::vector<ScanParts>& parts = params.incremental ? s.parts : built;
 
   std::vector<Eigen::Isometry3d> poses;
   for (const ScanRegistrationRecord& r : s.records) poses.push_back(r.model_pose);
   double alignment_sigma_t = 0.0, alignment_sigma_r = 0.0;  // per view, robust, from the model alignment
+  if (params.incremental && !params.model_alignment_resolutions.empty()) poses = s.aligned;
   if (n >= 3 && !params.model_alignment_resolutions.empty()) {
     std::vector<Eigen::Isometry3d> reported;
     for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
-    alignToOthers(params, reported, s.reduced, s.normals, ndt_sources, model_points, poses, result);
+    if (params.incremental) {
+      result.model_alignment_accepted = s.level_kept;
+      std::vector<Eigen::Isometry3d> before;
+      for (const ScanRegistrationRecord& r : s.records) before.push_back(r.model_pose);
+      recordAlignmentMoves(parts, before, poses, result);
+    } else {
+      alignToOthers(params, reported, s.reduced, s.normals, parts, poses, result);
+    }
     // Without the robot's priors the first scan holds the frame (the pose
     // graph fixes it): the views moved together, so move them back as one.
     const bool gauge_from_priors =
@@ -580,8 +839,8 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     double distance = 0.0;
     std::size_t counted = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (ndt_sources[i].empty()) continue;
-      const Eigen::Vector3d centroid = centroidOf(ndt_sources[i]);
+      if (parts[i].ndt_source.empty()) continue;
+      const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
       const Eigen::Vector3d move = poses[i] * centroid - reported[i] * centroid;
       for (int c = 0; c < 3; ++c) moves.push_back(std::abs(move(c)));
       distance += centroid.norm();
@@ -594,81 +853,29 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   }
   const int rounds = std::max(1, params.refinement_rounds);
   for (int round = 0; round < rounds; ++round) {
-    const auto chosen = choosePairs(s.reduced, poses, params);
     std::vector<PairRegistrationRecord> pairs;
-    pairs.reserve(chosen.size());
-    for (const auto& [pair, overlap] : chosen) {
-      PairRegistrationRecord record;
-      record.from = pair.first;
-      record.to = pair.second;
-      record.overlap = overlap;
-      record.round = round;
-      pairs.push_back(record);
-    }
-    std::vector<Matrix6d> hessians(pairs.size(), Matrix6d::Zero());
-    std::vector<Matrix6d> projectors(pairs.size(), Matrix6d::Identity());
-    // Each pair is independent and deterministic: their order of completion
-    // does not matter.
-    tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
-      PairRegistrationRecord& pair = pairs[k];
-      const Eigen::Isometry3d implied = poses[pair.from].inverse() * poses[pair.to];
-      const bool fine = params.icp_refinement && icp_targets[pair.from] && !icp_sources[pair.to].empty();
-      try {
-        ndt::NdtResult estimate;
-        estimate.pose = implied;
-        // The NDT's wide basin is needed only from the robot's poses; later
-        // rounds start from the graph's, within the ICP's reach.
-        if ((round == 0 && params.pair_ndt) || !fine) {
-          if (!ndt_targets[pair.from]) throw InputError("scan " + std::to_string(pair.from), "", "too few points for NDT");
-          const std::vector<Eigen::Vector3d>& source = fine ? ndt_sources[pair.to] : s.reduced[pair.to];
-          estimate = ndt::registerNdt(positionsOnly(source), *ndt_targets[pair.from], implied, pair_ndt);
-          hessians[k] = estimate.hessian;
-          pair.normalized_score = estimate.normalized_score;
-        } else {
-          estimate.normalized_score = 1.0;
-        }
-        if (fine) {
-          // Later rounds start within a millimetre or two: the coarse stages
-          // would only repeat the last one's work.
-          PointToPlaneIcpParameters icp_params = params.icp;
-          if (round > 0 && icp_params.max_distances.size() > 2)
-            icp_params.max_distances.erase(icp_params.max_distances.begin(), icp_params.max_distances.end() - 2);
-          if (round == 0 && !params.pair_ndt)
-            icp_params.max_distances.insert(icp_params.max_distances.begin(), params.icp_wide_distances.begin(),
-                                            params.icp_wide_distances.end());
-          const PointToPlaneIcpResult icp =
-              registerPointToPlane(icp_sources[pair.to], *icp_targets[pair.from], estimate.pose, icp_params);
-          pair.icp_inlier_fraction = icp.inlier_fraction;
-          pair.icp_rms_m = icp.rms_m;
-          if (icp.failed || icp.inlier_fraction < params.min_icp_inlier_fraction) {
-            pair.rejection = "ICP matched " + std::to_string(icp.correspondences) + " points (" +
-                             std::to_string(100.0 * icp.inlier_fraction) + " %), too little overlap";
-          } else {
-            estimate.pose = icp.pose;
-            // The residuals' variance turns sum J^T J into an information.
-            const double variance = std::max(icp.rms_m * icp.rms_m, 1e-12);
-            hessians[k] = icp.hessian / variance;
-          }
-        }
-        const Observability o = scanObservability(s.reduced[pair.to], s.normals[pair.to], implied, params.degeneracy_ratio);
-        if (params.degeneracy_ratio > 0) {
-          remapDegenerate(estimate, implied, o);
-          projectors[k] = o.projector;
-        }
-        pair.degenerate_directions = o.degenerate_directions;
-        pair.weakest_direction_ratio = o.weakest_ratio;
-        if (pair.rejection.empty()) pair.rejection = s.judge(estimate, implied, s.reduced[pair.to], "the scan-to-model poses");
-        const Eigen::Isometry3d discrepancy = implied.inverse() * estimate.pose;
-        pair.discrepancy_translation_m = discrepancy.translation().norm();
-        pair.discrepancy_rotation_rad = rotationAngle(discrepancy);
-        if (pair.rejection.empty()) {
-          pair.accepted = true;
-          pair.measurement = estimate.pose;
-        }
-      } catch (const InputError& e) {
-        pair.rejection = std::string("NDT: ") + e.what();
+    std::vector<Matrix6d> hessians, projectors;
+    if (round == 0 && params.incremental) {
+      s.firstRoundPairs(pairs, hessians, projectors);
+    } else {
+      const auto chosen = choosePairs(s.reduced, poses, params);
+      pairs.reserve(chosen.size());
+      for (const auto& [pair, overlap] : chosen) {
+        PairRegistrationRecord record;
+        record.from = pair.first;
+        record.to = pair.second;
+        record.overlap = overlap;
+        record.round = round;
+        pairs.push_back(record);
       }
-    });
+      hessians.assign(pairs.size(), Matrix6d::Zero());
+      projectors.assign(pairs.size(), Matrix6d::Identity());
+      // Each pair is independent and deterministic: their order of
+      // completion does not matter.
+      tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
+        s.registerPair(parts, poses, round, pairs[k], hessians[k], projectors[k]);
+      });
+    }
 
     // How good the robot's own relative motions and poses are, measured by
     // the consecutive pairs (independent of the robot).
@@ -895,13 +1102,18 @@ SequenceRegistrationResult SequenceRegistration::finish() {
         loop.discrepancy_rotation_rad = pair.discrepancy_rotation_rad;
       }
   }
-  result.scans = std::move(s.records);
+  if (params.incremental)
+    result.scans = s.records;
+  else
+    result.scans = std::move(s.records);
   result.model_points = s.model.size();
   result.resolutions = params.ndt.resolutions;
   result.first_scan_spacing_m = s.first_spacing;
   result.time_ms = s.time_ms + msSince(start);
-  s.reduced = {};
-  s.normals = {};
+  if (!params.incremental) {
+    s.reduced = {};
+    s.normals = {};
+  }
   return result;
 }
 

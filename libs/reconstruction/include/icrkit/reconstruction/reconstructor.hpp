@@ -19,6 +19,17 @@
 /// earlier update() reached would make the result depend on when update()
 /// was called, not on the scans alone.
 ///
+/// With `params.registration.incremental` the registration runs as the
+/// scans arrive instead: once the crop box is known (given, or placed where
+/// the axes of the first views that spread by 0.5 rad meet), add() also
+/// crops the scan, removes the support plane, aligns the view to the views
+/// before it and registers it with its best-overlapping earlier views;
+/// update() is left with the loop closure, the pose graph, the later
+/// refinement rounds, the fusion and the meshes. Still a function of the
+/// scans alone (each add() does the same work whenever update() is called),
+/// but not the same as registering all views together: a view is aligned to
+/// the views before it, not to those after it.
+///
 /// Fed the scans of a recording in order, update() gives the bytes
 /// `icrkit reconstruct` writes for that recording: the file paths are this
 /// class behind a reader.

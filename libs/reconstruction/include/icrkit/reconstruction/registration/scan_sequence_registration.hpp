@@ -170,6 +170,16 @@ struct SequenceRegistrationParameters {
   /// least `min_normalized_score`.
   double model_alignment_max_translation = 0.08;
   double model_alignment_max_rotation = 0.25;
+  /// Registration as the scans arrive: add() aligns each view to the
+  /// union of the earlier ones (the model alignment's levels, from its
+  /// reported pose) and registers it with its best-overlapping earlier views
+  /// (the first round's NDT and ICP, up to `max_partners`, and the previous
+  /// view); finish() then has only the loop-closure pair, the pose graph and
+  /// the later rounds left, and may be called again after more add()s.
+  /// Off (default): finish() does it all, each view aligned to all the
+  /// others at once, which the file paths use. The two differ: a view is
+  /// aligned to the views before it, not to those after it.
+  bool incremental = false;
   /// Multiway rounds: after the pose graph is solved the pairs are chosen
   /// again at the new poses (views that now overlap become partners) and
   /// registered again from the graph's relative poses (ICP only), and the
@@ -306,8 +316,9 @@ public:
 
   std::size_t size() const;
 
-  /// Loop closure and pose graph; the object cannot be used afterwards.
-  /// Throws InputError when no scan was added.
+  /// Loop closure and pose graph; the object cannot be used afterwards,
+  /// unless `incremental`: then it solves from the registrations so far and
+  /// more scans may follow. Throws InputError when no scan was added.
   SequenceRegistrationResult finish();
 
 private:
