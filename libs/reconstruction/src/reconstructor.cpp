@@ -387,7 +387,11 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     result.timestamps.push_back(s.scan.timestamp);
   }
 
-  const bool incremental = params.registration.incremental;
+  // Registered as the scans arrived: once the crop box could be placed.
+  // Before that (views not yet spread) the scans so far are registered
+  // here the same way, from scratch, and nothing is kept: the box a later
+  // scan places must not depend on when update() was called.
+  const bool incremental = params.registration.incremental && live_box.has_value();
   if (params.crop_box) {
     result.crop_box = *params.crop_box;
   } else if (incremental && live_box) {
@@ -424,12 +428,6 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     }
   };
   if (incremental) {
-    // The views never spread enough to place the box as they came: it is
-    // placed from all of them now, and the scans registered.
-    if (!live_box) {
-      live_box = result.crop_box;
-      live_box_automatic = result.crop_box_automatic;
-    }
     advance();
     if (live_error) throw *live_error;
     times.filter_ms += live_filter_ms;

@@ -25,10 +25,11 @@
 /// crops the scan, removes the support plane, aligns the view to the views
 /// before it and registers it with its best-overlapping earlier views;
 /// update() is left with the loop closure, the pose graph, the later
-/// refinement rounds, the fusion and the meshes. Still a function of the
-/// scans alone (each add() does the same work whenever update() is called),
-/// but not the same as registering all views together: a view is aligned to
-/// the views before it, not to those after it.
+/// refinement rounds, the fusion and the meshes (an update() before the box
+/// could be placed registers the scans so far the same way from scratch and
+/// keeps nothing). Still a function of the scans alone, whenever update() is
+/// called, but not the same as registering all views together: a view is
+/// aligned to the views before it, not to those after it.
 ///
 /// Fed the scans of a recording in order, update() gives the bytes
 /// `icrkit reconstruct` writes for that recording: the file paths are this
