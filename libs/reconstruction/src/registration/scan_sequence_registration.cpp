@@ -461,20 +461,20 @@ bool coarseAlignmentLevel(const SequenceRegistrationParameters& params, double r
   return resolution >= 8.0 * params.pair_ndt_source_voxel_size;
 }
 
-// One view against a model of other views at one level, from `from`: its
-// pose when the result is kept (near the reported pose, scored well
+// One view against a model of other views at one level, from `from_pose`:
+// its pose when the result is kept (near the reported pose, scored well
 // enough). `reported` is the robot's pose (the limits), `reduced` and
-// `normals` the view's points and normals (its observability), `source`
-// the points registered and `centroid` theirs. Throws InputError when the
-// NDT cannot run.
+// `normals` the view's points and normals (its observability),
+// `source_points` the points registered and `centroid` theirs. Throws
+// InputError when the NDT cannot run.
 std::optional<Eigen::Isometry3d> alignView(const SequenceRegistrationParameters& params, const ndt::NdtTarget& target,
                                            double resolution, const Eigen::Isometry3d& reported,
                                            const std::vector<Eigen::Vector3d>& reduced,
                                            const std::vector<Eigen::Vector3d>& normals,
-                                           const std::vector<Eigen::Vector3d>& sources, const Eigen::Vector3d& centroid,
-                                           const Eigen::Isometry3d& from_pose) {
+                                           const std::vector<Eigen::Vector3d>& source_points,
+                                           const Eigen::Vector3d& centroid, const Eigen::Isometry3d& from_pose) {
   const ndt::NdtParameters level = alignmentLevel(params, resolution);
-  const PointCloud source = positionsOnly(sources);
+  const PointCloud source = positionsOnly(source_points);
   // The NDT from `from`; its result when it is kept.
   auto attempt = [&](const Eigen::Isometry3d& from) -> std::optional<ndt::NdtResult> {
     ndt::NdtResult r = ndt::registerNdt(source, target, from, level);
