@@ -2,14 +2,17 @@
 """Streams a TUM RGB-D folder frame by frame into icrkit.Reconstructor, then plans grasps.
 
     stream_tum_folder.py [FOLDER] [--intrinsics FX,FY,CX,CY] [--depth-scale S]
-                         [--poses FILE] [--top N] [-o DIR]
+                         [--poses FILE] [--top N] [--as-they-arrive] [-o DIR]
 
 As a robot would: each depth image is decoded into a NumPy array and handed
 over with its camera pose (a 4x4 camera-to-object matrix, optical axes) as if
 a driver had just delivered it; nothing is read back from files by icrkit.
 After the last frame it asks for the meshes, writes what `icrkit reconstruct`
 writes (and plan.json) to DIR, and prints the best grasps on the filtered mesh.
-Without FOLDER: the shared PrimeSense bunny recording (../shared/data)."""
+With --as-they-arrive each frame is also registered with the earlier ones
+as it is handed over, so that the meshes come sooner after the last one
+(docs/python.md). Without FOLDER: the shared PrimeSense bunny recording
+(../shared/data)."""
 
 import argparse
 import json
@@ -57,6 +60,8 @@ def main():
     parser.add_argument("--depth-scale", type=float, default=None, help="depth counts per metre (default 1000)")
     parser.add_argument("--poses", default=None, help="TUM trajectory (default FOLDER/reported.txt)")
     parser.add_argument("--top", type=int, default=5, help="grasps to print")
+    parser.add_argument("--as-they-arrive", action="store_true",
+                        help="register each frame with the earlier ones as it is handed over")
     parser.add_argument("-o", "--output", default="stream_out")
     args = parser.parse_args()
 
@@ -75,7 +80,7 @@ def main():
     poses = icrkit.read_tum_poses(args.poses or os.path.join(args.folder, "reported.txt"))
 
     show = sys.stderr.isatty()
-    reconstructor = icrkit.Reconstructor()
+    reconstructor = icrkit.Reconstructor(register_as_scans_arrive=args.as_they_arrive)
     start = time.perf_counter()
     for i, (stamp, name) in enumerate(frames):
         depth = np.asarray(Image.open(os.path.join(args.folder, name)), dtype=np.uint16)  # the driver's frame

@@ -41,3 +41,12 @@ def test_streaming_the_shared_folder_plans_grasps():
         pytest.skip("shared data not found: " + folder)
     stdout, produced = run("stream_tum_folder.py", "out", folder, "--top", "3")
     assert "18 scans fed" in stdout and "grasp 1:" in stdout, stdout
+
+
+def test_streaming_with_registration_as_the_frames_arrive():
+    pytest.importorskip("PIL")
+    folder = os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "data", "primesense-bunny", "tum")
+    if not os.path.exists(os.path.join(folder, "depth.txt")):
+        pytest.skip("shared data not found: " + folder)
+    stdout, produced = run("stream_tum_folder.py", "out", folder, "--top", "1", "--as-they-arrive")
+    assert "18 scans fed" in stdout and "grasp 1:" in stdout, stdout
