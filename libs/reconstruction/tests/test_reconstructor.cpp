@@ -108,6 +108,8 @@ TEST(Reconstructor, RegisteredAsTheScansArriveDoesNotDependOnWhenUpdateIsCalled)
     if (i == 3) EXPECT_EQ(as_they_come.update().poses.size(), 4u);
   }
   expectSameReconstruction(as_they_come.update(), reference);
+  // The file path with the same parameters is the same Reconstructor.
+  expectSameReconstruction(reconstructRawlog(simulatedRecording(6, false) + "/scans.rawlog", params), reference);
 
   // Close to all views registered together at the end.
   params.registration.incremental = false;
