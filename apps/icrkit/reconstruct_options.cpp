@@ -72,7 +72,7 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
                    "rarely better: docs/reconstruction.md)");
   command.add_flag("--register-as-scans-arrive", options.incremental_registration,
                    "Register each scan with the earlier ones as it is read (what a stream does to be ready soon "
-                   "after its last frame) instead of all views together at the end: docs/reconstruction_input.md");
+                   "after its last frame) instead of all views together at the end: docs/reconstruction.md, \"Streaming\"");
   command.add_option("--write-registration-input", options.write_registration_input,
                      "Also write each scan's object points (sensor frame) and starting pose to this folder "
                      "(view_NNN.ply, start.txt): the registration's exact input, for other tools");

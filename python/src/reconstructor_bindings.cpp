@@ -151,7 +151,7 @@ void bindReconstructor(py::module_& m) {
            "the filtered mesh, which then comes a third sooner. `register_as_scans_arrive`: each add registers its view "
            "with the earlier ones (the GIL released), so that cloud()/meshes() after the last scan only solve the pose "
            "graph, fuse and mesh; the result then differs from `icrkit reconstruct` without "
-           "--register-as-scans-arrive (docs/reconstruction_input.md).")
+           "--register-as-scans-arrive (docs/reconstruction.md, \"Streaming\").")
       .def(
           "add_depth",
           [](PyReconstructor& self, const py::array& depth, const std::vector<double>& intrinsics,

@@ -394,7 +394,7 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
   const bool incremental = params.registration.incremental && live_box.has_value();
   if (params.crop_box) {
     result.crop_box = *params.crop_box;
-  } else if (incremental && live_box) {
+  } else if (incremental) {
     // Placed as the scans arrived, from the first views that spread enough.
     result.crop_box = *live_box;
     result.crop_box_automatic = live_box_automatic;
