@@ -104,6 +104,8 @@ expect_input_error "--board-origin" "$ICRKIT" reconstruct "$work/cup/scans.rawlo
 expect_input_error "--board-origin" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad10" --board-origin 0,0,0
 expect_input_error "--no-registration" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad11" \
   --board-square 0.02 --no-registration
+expect_input_error "--register-as-scans-arrive" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad13" \
+  --register-as-scans-arrive --no-registration
 expect_input_error "missing.rawlog" "$ICRKIT" reconstruct "$work/missing.rawlog" -o "$work/bad1"
 expect_input_error "--window-normal-angle" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad12" \
   --window-normal-angle 0

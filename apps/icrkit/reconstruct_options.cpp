@@ -153,6 +153,8 @@ reconstruction::ReconstructionParameters reconstructionParameters(const Reconstr
   params.keep_registration_input = !options.write_registration_input.empty();
   if (params.keep_registration_input && options.no_registration)
     throw InputError("--write-registration-input", "", "needs registration (drop --no-registration)");
+  if (options.incremental_registration && options.no_registration)
+    throw InputError("--register-as-scans-arrive", "", "needs registration (drop --no-registration)");
   if (!options.board_origin.empty() && options.board_square == 0.0)
     throw InputError("--board-origin", "", "needs --board-square (the checkerboard's square size)");
   if (options.board_square != 0.0) {

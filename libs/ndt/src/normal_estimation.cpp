@@ -2,9 +2,12 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/radius_cells.hpp>
 #include <icrkit/ndt/fit_uncertainty.hpp>
 #include <icrkit/ndt/normal_orientation.hpp>
 #include <icrkit/ndt/symmetric_eigen3.hpp>
+
+#include "window_moments.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -40,36 +43,68 @@ NormalEstimationReport estimateNormals(PointCloud& cloud, const NormalEstimation
   std::vector<Eigen::Vector3d> normals(n, Eigen::Vector3d::UnitZ());
   std::vector<FitUncertainty> uncertainty(n);
   std::atomic<std::size_t> small{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
-    std::vector<std::size_t> window;
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const Eigen::Vector3d& p = cloud.positions[i];
-      if (summary.radius_m > 0) tree.indicesWithinRadius(p, summary.radius_m, window);
-      if (window.size() < k || !(summary.radius_m > 0)) {
-        ++small;
-        window.clear();
-        for (const Neighbour& nb : tree.nearest(p, k)) window.push_back(nb.index);
-        std::sort(window.begin(), window.end());
+  // The plane of one window: covariance about the query point.
+  auto fit = [&](std::size_t i, const WindowMoments& m) {
+    const double inv = 1.0 / static_cast<double>(m.count);
+    const Eigen::Vector3d mean = m.sum * inv;
+    const SymmetricEigen3 eigen = eigenSymmetric3(m.outer() * inv - mean * mean.transpose());
+    const Eigen::Vector3d v3 = eigen.vectors.col(2);
+    if (v3.allFinite() && v3.squaredNorm() > 0) normals[i] = v3.normalized();
+    // The window actually used: the k nearest reach beyond the radius.
+    const double reach = std::max(summary.radius_m, std::sqrt(m.reach_sq));
+    uncertainty[i] = planeFitUncertainty(eigen.values, eigen.vectors, m.count, -mean, reach, FittedPoint::Measured);
+  };
+  // Too few points within the radius (or no radius): the k nearest.
+  auto fitNearest = [&](std::size_t i, std::vector<std::size_t>& window) {
+    ++small;
+    window.clear();
+    const Eigen::Vector3d& p = cloud.positions[i];
+    for (const Neighbour& nb : tree.nearest(p, k)) window.push_back(nb.index);
+    std::sort(window.begin(), window.end());
+    WindowMoments m;
+    for (std::size_t j : window) m.add(cloud.positions[j] - p);
+    fit(i, m);
+  };
+  if (params.index_order || !(summary.radius_m > 0)) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
+      std::vector<std::size_t> window;
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const Eigen::Vector3d& p = cloud.positions[i];
+        if (summary.radius_m > 0) tree.indicesWithinRadius(p, summary.radius_m, window);
+        if (!(summary.radius_m > 0) || window.size() < k) {
+          fitNearest(i, window);
+          continue;
+        }
+        WindowMoments m;
+        for (std::size_t j : window) m.add(cloud.positions[j] - p);
+        fit(i, m);
       }
-      // Covariance about the query point, summed in index order.
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-      for (std::size_t j : window) {
-        const Eigen::Vector3d d = cloud.positions[j] - p;
-        sum += d;
-        outer.noalias() += d * d.transpose();
+    });
+  } else {
+    const RadiusCells cells(cloud.positions, summary.radius_m);
+    const double radius_sq = summary.radius_m * summary.radius_m;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cellCount(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+      CandidatePositions near;
+      std::vector<std::uint32_t> slots;
+      std::vector<std::size_t> window;
+      for (std::size_t c = range.begin(); c != range.end(); ++c) {
+        near.gather(cloud.positions, cells, c);
+        for (const std::uint32_t* it = cells.cellBegin(c); it != cells.cellEnd(c); ++it) {
+          const std::size_t i = *it;
+          const Eigen::Vector3d& p = cloud.positions[i];
+          const std::size_t count = near.within(p, radius_sq, slots);
+          if (count < k) {
+            fitNearest(i, window);
+            continue;
+          }
+          WindowMoments m;
+          for (std::size_t s = 0; s < count; ++s) m.add(near.offset(slots[s], p));
+          fit(i, m);
+        }
       }
-      const double inv = 1.0 / static_cast<double>(window.size());
-      const Eigen::Vector3d mean = sum * inv;
-      const SymmetricEigen3 eigen = eigenSymmetric3(outer * inv - mean * mean.transpose());
-      const Eigen::Vector3d v3 = eigen.vectors.col(2);
-      if (v3.allFinite() && v3.squaredNorm() > 0) normals[i] = v3.normalized();
-      // The window actually used: the k nearest reach beyond the radius.
-      double reach = summary.radius_m;
-      for (std::size_t j : window) reach = std::max(reach, (cloud.positions[j] - p).norm());
-      uncertainty[i] = planeFitUncertainty(eigen.values, eigen.vectors, window.size(), -mean, reach, FittedPoint::Measured);
-    }
-  });
+    });
+  }
   summary.small_windows = small.load();
   cloud.normals = std::move(normals);
   auto& normal_sigma = cloud.attributes.add(kNormalSigmaAttribute, ScalarType::Float32, n);

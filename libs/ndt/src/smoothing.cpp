@@ -1,11 +1,13 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/radius_cells.hpp>
 #include <icrkit/ndt/fit_uncertainty.hpp>
 #include <icrkit/ndt/normal_orientation.hpp>
 #include <icrkit/ndt/smoothing.hpp>
 #include <icrkit/ndt/symmetric_eigen3.hpp>
 
 #include "nearest_neighbour_row.hpp"
+#include "window_moments.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -15,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -95,7 +98,9 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
                          const WindowSide& side, std::size_t graph_slots, const ProgressCallback& progress,
                          const std::string& stage) {
   const std::size_t n = input.size();
-  const KdTree tree(input);
+  // Only the orientation graph's top-up of sparse windows asks for k nearest.
+  std::optional<KdTree> tree;
+  if (graph_slots > 0) tree.emplace(input);
   PassOutput out;
   out.positions.resize(n);
   out.normals.assign(n, Eigen::Vector3d::Zero());
@@ -105,46 +110,53 @@ PassOutput smoothingPass(const std::vector<Eigen::Vector3d>& input, double radiu
   out.graph.slots = graph_slots;
   out.graph.neighbours.assign(n * graph_slots, n);
   std::atomic<std::size_t> done{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const tbb::blocked_range<std::size_t>& range) {
-    std::vector<std::size_t> window;  // one buffer per task, reused for every point
-    window.reserve(256);
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const Eigen::Vector3d& p = input[i];
-      // The tree's order, not sorted (the sort was 8 % of the call): fixed for
-      // a given cloud, so the sums below have the same bits on every run and
-      // thread count.
-      tree.indicesWithinRadiusInTreeOrder(p, radius, window);
-      if (!side.normals.empty())
-        window.erase(std::remove_if(window.begin(), window.end(), [&](std::size_t j) { return !side.keeps(i, j); }),
-                     window.end());
-      const std::size_t count = window.size();
-      out.cardinality[i] = static_cast<int>(count);
-      if (graph_slots > 0) keepNearest(input, tree, i, window, out.graph);
-      if (count < 3) {
-        out.positions[i] = p;
-        continue;
+  const RadiusCells cells(input, radius);
+  const double radius_sq = radius * radius;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.cellCount(), 16),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+    // One set of buffers per task, reused for every cube and point.
+    CandidatePositions near;
+    std::vector<std::uint32_t> slots;
+    std::vector<std::size_t> window;
+    std::size_t points = 0;
+    for (std::size_t c = range.begin(); c != range.end(); ++c) {
+      near.gather(input, cells, c);
+      for (const std::uint32_t* it = cells.cellBegin(c); it != cells.cellEnd(c); ++it, ++points) {
+        const std::size_t i = *it;
+        const Eigen::Vector3d& p = input[i];
+        // Mean and covariance about the query point (shifted data keeps the
+        // sums small and exact-ish), over the candidates within the radius
+        // on the query's side, in the cubes' order: fixed for a given cloud,
+        // so the sums have the same bits on every run and thread count.
+        const std::size_t within = near.within(p, radius_sq, slots);
+        WindowMoments m;
+        window.clear();
+        for (std::size_t s = 0; s < within; ++s) {
+          const std::size_t j = near.index[slots[s]];
+          if (!side.normals.empty() && !side.keeps(i, j)) continue;
+          m.add(near.offset(slots[s], p));
+          if (graph_slots > 0) window.push_back(j);
+        }
+        const std::size_t count = m.count;
+        out.cardinality[i] = static_cast<int>(count);
+        if (graph_slots > 0) keepNearest(input, *tree, i, window, out.graph);
+        if (count < 3) {
+          out.positions[i] = p;
+          continue;
+        }
+        const double inv = 1.0 / static_cast<double>(count);
+        const Eigen::Vector3d mean_offset = m.sum * inv;
+        const Eigen::Matrix3d covariance = m.outer() * inv - mean_offset * mean_offset.transpose();
+        const SymmetricEigen3 eigen = eigenSymmetric3(covariance);
+        const Eigen::Vector3d v3 = eigen.vectors.col(2);
+        out.positions[i] = p + v3 * mean_offset.dot(v3);  // eq. (1): mu - p = mean_offset
+        out.normals[i] = v3;
+        out.flatness[i] = flatness(eigen.values, flatness_floor);
+        out.uncertainty[i] =
+            planeFitUncertainty(eigen.values, eigen.vectors, count, -mean_offset, radius, FittedPoint::Projected);
       }
-      // Mean and covariance about the query point (shifted data keeps the
-      // sums small and exact-ish).
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-      for (std::size_t j : window) {
-        const Eigen::Vector3d d = input[j] - p;
-        sum += d;
-        outer.noalias() += d * d.transpose();
-      }
-      const double inv = 1.0 / static_cast<double>(count);
-      const Eigen::Vector3d mean_offset = sum * inv;
-      const Eigen::Matrix3d covariance = outer * inv - mean_offset * mean_offset.transpose();
-      const SymmetricEigen3 eigen = eigenSymmetric3(covariance);
-      const Eigen::Vector3d v3 = eigen.vectors.col(2);
-      out.positions[i] = p + v3 * mean_offset.dot(v3);  // eq. (1): mu - p = mean_offset
-      out.normals[i] = v3;
-      out.flatness[i] = flatness(eigen.values, flatness_floor);
-      out.uncertainty[i] =
-          planeFitUncertainty(eigen.values, eigen.vectors, count, -mean_offset, radius, FittedPoint::Projected);
     }
-    if (progress) progress(stage, done.fetch_add(range.size()) + range.size(), n);
+    if (progress) progress(stage, done.fetch_add(points) + points, n);
   });
   return out;
 }

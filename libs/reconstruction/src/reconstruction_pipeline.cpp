@@ -73,6 +73,10 @@ void validateReconstructionParameters(const ReconstructionParameters& params) {
   if (params.board && !params.register_scans)
     throw InputError("ReconstructionParameters::board", "",
                      "the checkerboard poses enter the registration's pose graph; registration is off");
+  if (params.registration.incremental && !params.register_scans)
+    throw InputError("SequenceRegistrationParameters::incremental", "",
+                     "registration as the scans arrive needs registration on (register_scans)");
+  if (params.register_scans) params.registration.validate();
   if (params.confidence.min_confidence < 0 || params.confidence.min_confidence > 255)
     throw InputError("ConfidenceFilterParameters::min_confidence", "", "expected 0..255");
   if (params.confidence.min_amplitude < 0 || params.confidence.min_amplitude > 255)

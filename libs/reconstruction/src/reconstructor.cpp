@@ -2,6 +2,7 @@
 
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/morton_order.hpp>
 #include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 
 #include <tbb/parallel_for.h>
@@ -367,6 +368,7 @@ ReconstructionResult Reconstructor::takeResult(const ProgressCallback& progress)
 std::size_t Reconstructor::storedBytes() const {
   std::size_t bytes = 0;
   for (const StoredScan& s : impl_->scans) bytes += s.bytes();
+  if (impl_->live) bytes += impl_->live->pointBytes();
   return bytes;
 }
 
@@ -519,6 +521,12 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     }
     const auto start = Clock::now();
     OctreeFusionResult fused = fusion.finish();
+    // In Z-order: every later stage walks the cloud point by point and asks
+    // for each point's neighbours, which are then near it in memory too (the
+    // fusion's own order revisits each place once per view). Normals and
+    // smoothing take a quarter less time on 36 views.
+    const std::vector<std::uint32_t> order = mortonOrder(fused.points.positions);
+    fused.points.select(std::vector<std::size_t>(order.begin(), order.end()));
     times.fusion_ms += msSince(start);
     result.cloud = std::move(fused.points);
     result.fusion = fused.report;

@@ -71,7 +71,9 @@ void expectWellFormed(const BallPivotingResult& r) {
   EXPECT_EQ(r.report.non_manifold_edges, 0u);
   // Only the fills of folded holes may face against their points' normals,
   // and they are small.
-  if (r.report.folded_holes == 0) EXPECT_EQ(facesAgainstNormals(r.mesh), 0u);
+  if (r.report.folded_holes == 0) {
+    EXPECT_EQ(facesAgainstNormals(r.mesh), 0u);
+  }
   EXPECT_LE(facesAgainstNormals(r.mesh), r.mesh.faces.size() / 200);
   for (const Triangle& f : r.mesh.faces) {
     EXPECT_NE(f[0], f[1]);

@@ -6,14 +6,21 @@
 
 #include <icrkit/core/error.hpp>
 
+#include "key_bitmap.hpp"
+
 #include <octomap/OcTree.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace icrkit::reconstruction {
 
@@ -22,7 +29,7 @@ namespace {
 // What one scan does to the octree: the voxels its rays cross and those
 // its points end in.
 struct TracedScan {
-  octomap::KeySet free_keys, hit_keys;
+  KeyBitmap free_keys, hit_keys;
 };
 
 }  // namespace
@@ -114,6 +121,23 @@ TracedScan traceScan(const octomap::OcTree& tree, const OctreeFusionParameters& 
   // table, the background) would carve nothing inside it, and those are
   // exactly the rays that see through the space around the object.
   TracedScan traced;
+  // Keys inside the box (and a margin for rounding at its faces) in
+  // bitmaps of at most 16 MB; the others, and all of them without a box,
+  // in hash sets.
+  octomap::OcTreeKey min_key, max_key;
+  if (bounded && tree.coordToKeyChecked(toOcto(params.bounds.min()), min_key) &&
+      tree.coordToKeyChecked(toOcto(params.bounds.max()), max_key)) {
+    std::size_t bits = 1;
+    for (int a = 0; a < 3; ++a) {
+      min_key[a] = static_cast<octomap::key_type>(std::max(0, int(min_key[a]) - 2));
+      max_key[a] = static_cast<octomap::key_type>(std::min(65535, int(max_key[a]) + 2));
+      bits *= static_cast<std::size_t>(max_key[a] - min_key[a] + 1);
+    }
+    if (bits <= (std::size_t{1} << 27)) {
+      traced.free_keys = KeyBitmap(min_key, max_key);
+      traced.hit_keys = KeyBitmap(min_key, max_key);
+    }
+  }
   octomap::KeyRay ray;
   for (const Eigen::Vector3d& p : scan.points) {
     Eigen::Vector3d end = p;
@@ -129,7 +153,7 @@ TracedScan traceScan(const octomap::OcTree& tree, const OctreeFusionParameters& 
     double t0 = 0.0, t1 = 1.0;
     if (bounded && !clipToBox(params.bounds, o, end, t0, t1)) continue;
     if (tree.computeRayKeys(toOcto(o + t0 * (end - o)), toOcto(o + t1 * (end - o)), ray))
-      traced.free_keys.insert(ray.begin(), ray.end());
+      for (const octomap::OcTreeKey& key : ray) traced.free_keys.insert(key);
   }
   return traced;
 }
@@ -143,9 +167,12 @@ void OctreeFusion::Impl::apply(const RangeScan& scan, const std::vector<std::uin
   const double max_range = params.max_range.value_or(scan.max_range);
   // Inner nodes are brought up to date once at the end (OctoMap's
   // documented use of lazy evaluation); leaves are exact after every scan.
-  for (const octomap::OcTreeKey& key : traced.free_keys)
-    if (traced.hit_keys.find(key) == traced.hit_keys.end()) tree.updateNode(key, false, true);
-  for (const octomap::OcTreeKey& key : traced.hit_keys) tree.updateNode(key, true, true);
+  // Each voxel is updated once per scan, so the order of the voxels does
+  // not matter: the leaves end the same in any.
+  traced.free_keys.forEach([&](const octomap::OcTreeKey& key) {
+    if (!traced.hit_keys.contains(key)) tree.updateNode(key, false, true);
+  });
+  traced.hit_keys.forEach([&](const octomap::OcTreeKey& key) { tree.updateNode(key, true, true); });
 
   const std::uint32_t origin = static_cast<std::uint32_t>(viewpoints.size());
   viewpoints.push_back(o);
@@ -187,15 +214,27 @@ void OctreeFusion::insert(const std::vector<RangeScan>& scans, const std::vector
   };
   for (std::size_t i = 0; i < scans.size(); ++i) checkCandidates(scans[i], maskOf(i));
   const auto start = std::chrono::steady_clock::now();
-  std::vector<TracedScan> traced(scans.size());
-  tbb::parallel_for(std::size_t{0}, scans.size(),
-                    [&](std::size_t i) { traced[i] = traceScan(impl_->tree, impl_->params, scans[i]); });
-  for (std::size_t i = 0; i < scans.size(); ++i) {
-    impl_->apply(scans[i], maskOf(i), traced[i]);
-    // Its key sets are the largest part of the memory.
-    octomap::KeySet().swap(traced[i].free_keys);
-    octomap::KeySet().swap(traced[i].hit_keys);
-  }
+  // Traced in parallel, applied in scan order as each is ready: a scan is
+  // applied while the next ones are traced. The tree is the same as
+  // applying them one by one.
+  std::size_t next = 0;
+  tbb::parallel_pipeline(
+      2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency())),
+      tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                          [&](tbb::flow_control& control) -> std::size_t {
+                                            if (next == scans.size()) control.stop();
+                                            return next++;
+                                          }) &
+          tbb::make_filter<std::size_t, std::pair<std::size_t, std::shared_ptr<TracedScan>>>(
+              tbb::filter_mode::parallel,
+              [&](std::size_t i) {
+                return std::make_pair(i, std::make_shared<TracedScan>(traceScan(impl_->tree, impl_->params, scans[i])));
+              }) &
+          tbb::make_filter<std::pair<std::size_t, std::shared_ptr<TracedScan>>, void>(
+              tbb::filter_mode::serial_in_order,
+              [&](const std::pair<std::size_t, std::shared_ptr<TracedScan>>& traced) {
+                impl_->apply(scans[traced.first], maskOf(traced.first), *traced.second);
+              }));
   impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -213,15 +252,26 @@ OctreeFusionResult OctreeFusion::finish() {
   report.kept_per_scan.assign(s.viewpoints.size(), 0);
   PointCloud& out = result.points;
   std::vector<double> view, pixel, vx, vy, vz;
+  // Each candidate's cell, looked up in parallel (the tree is only read
+  // now), then kept or counted in order.
+  enum : std::uint8_t { kKept, kOutside, kFree };
+  std::vector<std::uint8_t> fate(s.points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.points.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                        const Eigen::Vector3d& p = s.points[k];
+                        const octomap::OcTreeNode* node = tree.search(
+                            static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+                        fate[k] = node == nullptr ? kOutside : tree.isNodeOccupied(node) ? kKept : kFree;
+                      }
+                    });
   for (std::size_t k = 0; k < s.points.size(); ++k) {
     const Eigen::Vector3d& p = s.points[k];
-    const octomap::OcTreeNode* node =
-        tree.search(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-    if (node == nullptr) {
+    if (fate[k] == kOutside) {
       ++report.dropped_outside;
       continue;
     }
-    if (!tree.isNodeOccupied(node)) {
+    if (fate[k] == kFree) {
       ++report.dropped_free;
       continue;
     }

@@ -4,10 +4,10 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
+#include <icrkit/core/morton_order.hpp>
 
 #include "hole_triangulation.hpp"
 #include "layer_thinning.hpp"
-#include "morton_order.hpp"
 #include "point_insertion.hpp"
 #include "point_grid.hpp"
 

@@ -6,7 +6,7 @@
 // them from contiguous memory, where a kd-tree descends and then gathers
 // from all over the input arrays.
 
-#include "morton_order.hpp"
+#include <icrkit/core/morton_order.hpp>
 
 #include <Eigen/Core>
 

@@ -57,6 +57,7 @@ std::optional<std::vector<Eigen::Vector3d>> tangentNormals(const std::vector<Eig
   PointCloud cloud = positionsOnly(points);
   ndt::NormalEstimationParameters facing;
   facing.viewpoint = Eigen::Vector3d::Zero();
+  facing.index_order = true;
   try {
     ndt::estimateNormals(cloud, facing);
   } catch (const InputError&) {
@@ -164,7 +165,10 @@ constexpr double kModelAlignmentVoxel = 0.0025;
 // reported pose a centimetre off still finds them) is occupied by them.
 constexpr double kCoverageCube = 0.02;
 
-void validate(const SequenceRegistrationParameters& p) {
+}  // namespace
+
+void SequenceRegistrationParameters::validate() const {
+  const SequenceRegistrationParameters& p = *this;
   auto positive = [](double v, const char* name) {
     if (!(v > 0) || !std::isfinite(v)) throw InputError(name, "", "expected a positive number");
   };
@@ -179,8 +183,6 @@ void validate(const SequenceRegistrationParameters& p) {
   if (p.ndt.resolutions.empty()) throw InputError("ndt.resolutions", "", "expected at least one resolution");
 }
 
-}  // namespace
-
 struct SequenceRegistration::Impl {
   explicit Impl(const SequenceRegistrationParameters& p) : params(p), model(p.model_voxel_size) {}
 
@@ -194,6 +196,10 @@ struct SequenceRegistration::Impl {
   Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();  // latest model_pose * initial_pose^-1
   double time_ms = 0.0;
   bool finished = false;
+  // Set when add() failed after it began to change the state (out of
+  // memory, a solver failure): the per-scan arrays may then disagree, so
+  // every later call refuses instead of registering from a torn state.
+  std::string broken;
 
   // Incremental registration (params.incremental): built by add() as the
   // scans arrive.
@@ -209,6 +215,9 @@ struct SequenceRegistration::Impl {
   void registerPair(const std::vector<ScanParts>& all, const std::vector<Eigen::Isometry3d>& poses, int round,
                     PairRegistrationRecord& pair, Matrix6d& hessian, Matrix6d& projector) const;
   void alignAndPair(std::size_t i);
+  void commit(const PointCloud& points, ScanRegistrationRecord record, std::vector<Eigen::Vector3d> reduced_points,
+              std::vector<Eigen::Vector3d> reduced_normals, const std::optional<PosePrior>& prior,
+              const Eigen::Isometry3d& moved, Clock::time_point start);
   void firstRoundPairs(std::vector<PairRegistrationRecord>& pairs, std::vector<Matrix6d>& hessians,
                        std::vector<Matrix6d>& projectors) const;
 
@@ -283,7 +292,7 @@ struct SequenceRegistration::Impl {
 };
 
 SequenceRegistration::SequenceRegistration(const SequenceRegistrationParameters& params) {
-  validate(params);
+  params.validate();
   impl_ = std::make_unique<Impl>(params);
 }
 
@@ -291,10 +300,24 @@ SequenceRegistration::~SequenceRegistration() = default;
 
 std::size_t SequenceRegistration::size() const { return impl_->records.size(); }
 
+std::size_t SequenceRegistration::pointBytes() const {
+  const Impl& s = *impl_;
+  std::size_t points = 0;
+  for (const auto& v : s.reduced) points += v.size();
+  for (const auto& v : s.normals) points += v.size();
+  for (const ScanParts& p : s.parts) {
+    points += p.icp_source.size() + p.ndt_source.size() + p.model_points.size();
+    if (p.ndt_target) points += p.ndt_target->size();
+    if (p.icp_target) points += 2 * p.icp_target->points().size();
+  }
+  return points * sizeof(Eigen::Vector3d);
+}
+
 const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points, const Eigen::Isometry3d& initial_pose,
                                                         const std::optional<PosePrior>& prior) {
   Impl& s = *impl_;
   if (s.finished) throw std::logic_error("SequenceRegistration::add after finish()");
+  if (!s.broken.empty()) throw std::logic_error("SequenceRegistration::add after a failed add(): " + s.broken);
   const auto start = Clock::now();
   const std::size_t index = s.records.size();
   const std::string where = "scan " + std::to_string(index);
@@ -350,7 +373,22 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
   const Eigen::Isometry3d moved = record.model_pose * initial_pose.inverse();
   record.correction_translation_m = moved.translation().norm();
   record.correction_rotation_rad = rotationAngle(moved);
+  try {
+    s.commit(points, std::move(record), std::move(reduced), std::move(normals), prior, moved, start);
+  } catch (const std::exception& e) {
+    s.broken = e.what();
+    throw;
+  }
+  return s.records.back();
+}
 
+void SequenceRegistration::Impl::commit(const PointCloud& points, ScanRegistrationRecord record,
+                                        std::vector<Eigen::Vector3d> reduced_points,
+                                        std::vector<Eigen::Vector3d> reduced_normals,
+                                        const std::optional<PosePrior>& prior, const Eigen::Isometry3d& moved,
+                                        Clock::time_point start) {
+  Impl& s = *this;
+  const std::size_t index = record.index;
   if (s.params.scan_to_model && (index == 0 || record.registered)) {
     s.correction = moved;
     s.model.add(points.positions, record.model_pose);
@@ -361,8 +399,8 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
       s.target.reset();
     }
   }
-  s.reduced.push_back(std::move(reduced));
-  s.normals.push_back(std::move(normals));
+  s.reduced.push_back(std::move(reduced_points));
+  s.normals.push_back(std::move(reduced_normals));
   record.time_ms = msSince(start);
   s.time_ms += record.time_ms;
   s.priors.push_back(prior);
@@ -374,7 +412,6 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
     s.records.back().time_ms += ms;
     s.time_ms += ms;
   }
-  return s.records.back();
 }
 
 namespace {
@@ -784,6 +821,7 @@ void SequenceRegistration::Impl::firstRoundPairs(std::vector<PairRegistrationRec
 SequenceRegistrationResult SequenceRegistration::finish() {
   Impl& s = *impl_;
   if (s.finished) throw std::logic_error("SequenceRegistration::finish called twice");
+  if (!s.broken.empty()) throw std::logic_error("SequenceRegistration::finish after a failed add(): " + s.broken);
   if (s.records.empty()) throw InputError("scan sequence", "", "no scans to register");
   // Incremental: more scans may follow, registered against these.
   if (!s.params.incremental) {
@@ -1038,7 +1076,6 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     const double odometry_floor =
         floorOf(params.odometry_sigma_translation, odometry_sigma_t, params.odometry_sigma_rotation, odometry_sigma_r);
     for (int v = 0; v < params.variance_rounds && pair_edges.size() >= 3; ++v) {
-      const auto components = estimateVarianceComponents(graph, solved, groups, 3);
       std::array<double, 3> steps{1.0, 1.0, 1.0};
       // The pairs: their median chi-square against 6 degrees of freedom,
       // only ever weakening them. Their errors are largely systematic (a

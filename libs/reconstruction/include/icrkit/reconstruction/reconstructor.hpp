@@ -21,7 +21,7 @@
 ///
 /// With `params.registration.incremental` the registration runs as the
 /// scans arrive instead: once the crop box is known (given, or placed where
-/// the axes of the first views that spread by 0.5 rad meet), add() also
+/// the optical axes meet once at least 3 views' axes spread by 0.5 rad), add() also
 /// crops the scan, removes the support plane, aligns the view to the views
 /// before it and registers it with its best-overlapping earlier views;
 /// update() is left with the loop closure, the pose graph, the later
@@ -112,7 +112,9 @@ class Reconstructor {
   ReconstructionResult takeResult(const ProgressCallback& progress = {});
 
   /// Bytes held for the scans (points, pixels, range images, registration
-  /// input): the memory a stream of scans costs before update().
+  /// input; registering as the scans arrive, also the registration's point
+  /// copies, SequenceRegistration::pointBytes): the memory a stream of scans
+  /// costs before update().
   std::size_t storedBytes() const;
 
  private:

@@ -206,6 +206,11 @@ struct SequenceRegistrationParameters {
     p.kernel = RobustKernel::Cauchy;
     return p;
   }();
+
+  /// Throws InputError naming the field ("model_voxel_size", ...) for a
+  /// value out of range. The SequenceRegistration constructor calls it;
+  /// callers may call it before reading any scan.
+  void validate() const;
 };
 
 /// An absolute measurement of a scan's pose besides the robot's report (the
@@ -315,6 +320,12 @@ public:
                                     const std::optional<PosePrior>& prior = std::nullopt);
 
   std::size_t size() const;
+
+  /// Bytes of the point copies kept per scan (reduced points and normals;
+  /// when `incremental`, also each view's NDT and ICP inputs and the ICP
+  /// targets' points): what registering as the scans arrive adds to memory.
+  /// The NDT cells and search trees built over them are not counted.
+  std::size_t pointBytes() const;
 
   /// Loop closure and pose graph; the object cannot be used afterwards,
   /// unless `incremental`: then it solves from the registrations so far and
