@@ -33,6 +33,14 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// User and system time of the whole process (every thread), seconds.
+double cpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
 double peakMegabytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -102,13 +110,15 @@ int main(int argc, char** argv) {
       add_s += secondsSince(added);
     }
     const auto start = Clock::now();
+    const double cpu_before = cpuSeconds();
     const ReconstructionResult& r = reconstructor.update();
     const double update_s = secondsSince(start);
-    std::printf("{\"mode\": \"feed\", \"scans\": %zu, \"add_s_per_scan\": %.4f, \"after_last_scan_s\": %.3f, "
+    const double update_cpu_s = cpuSeconds() - cpu_before;
+    std::printf("{\"mode\": \"feed\", \"scans\": %zu, \"add_s_per_scan\": %.4f, \"after_last_scan_s\": %.3f, \"after_last_scan_cpu_s\": %.3f, "
                 "\"stored_mb\": %.1f, \"peak_mb\": %.1f, \"faces\": %zu, \"stages_s\": {\"per_scan_registration\": %.3f, "
                 "\"registration\": %.3f, \"fusion\": %.3f, \"normals\": %.3f, \"raw_mesh\": %.3f, \"smoothing\": %.3f, "
                 "\"filtered_mesh\": %.3f}}\n",
-                r.poses.size(), add_s / static_cast<double>(r.poses.size()), update_s,
+                r.poses.size(), add_s / static_cast<double>(r.poses.size()), update_s, update_cpu_s,
                 reconstructor.storedBytes() / 1048576.0, peakMegabytes(), r.filtered_mesh.faces.size(),
                 perScanRegistrationMs(r) / 1e3, r.times.registration_ms / 1e3, r.times.fusion_ms / 1e3, r.times.normals_ms / 1e3,
                 r.times.raw_mesh_ms / 1e3, r.times.smoothing_ms / 1e3, r.times.filtered_mesh_ms / 1e3);

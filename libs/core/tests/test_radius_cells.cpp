@@ -39,7 +39,9 @@ TEST(RadiusCells, NeighbourCubesHoldEveryPointWithinTheRadius) {
       EXPECT_TRUE((points[*it].array() >= min.array() - 1e-12).all()) << *it;
       EXPECT_TRUE((points[*it].array() <= min.array() + cells.edge() + 1e-12).all()) << *it;
       for (std::size_t j = 0; j < points.size(); ++j)
-        if ((points[j] - points[*it]).norm() <= radius) EXPECT_TRUE(candidates.count(j)) << *it << " " << j;
+        if ((points[j] - points[*it]).norm() <= radius) {
+          EXPECT_TRUE(candidates.count(j)) << *it << " " << j;
+        }
     }
   }
   for (std::size_t i = 0; i < points.size(); ++i) EXPECT_EQ(seen[i], 1) << i;

@@ -58,9 +58,13 @@ struct CandidatePositions {
     spans.clear();
     index.clear();
     for (std::size_t cube : cubes) {
+      // The box a little larger than the cube: its corners are rounded, and
+      // a point on a face must never be skipped.
       const Eigen::Vector3d min = cells.cellMin(cube);
+      const double slack = 1e-9 * cells.edge() + 1e-12 * (1.0 + min.cwiseAbs().maxCoeff());
       spans.push_back({index.size(), index.size() + static_cast<std::size_t>(cells.cellEnd(cube) - cells.cellBegin(cube)),
-                       min, min + Eigen::Vector3d::Constant(cells.edge())});
+                       min - Eigen::Vector3d::Constant(slack),
+                       min + Eigen::Vector3d::Constant(cells.edge() + slack)});
       index.insert(index.end(), cells.cellBegin(cube), cells.cellEnd(cube));
     }
     x.resize(index.size());

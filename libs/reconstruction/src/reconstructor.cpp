@@ -523,8 +523,8 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     OctreeFusionResult fused = fusion.finish();
     // In Z-order: every later stage walks the cloud point by point and asks
     // for each point's neighbours, which are then near it in memory too (the
-    // fusion's own order revisits each place once per view). Normals and
-    // smoothing take a quarter less time on 36 views.
+    // fusion's own order revisits each place once per view): a quarter off
+    // each radius query on 36 views (docs/performance.md, stop 45).
     const std::vector<std::uint32_t> order = mortonOrder(fused.points.positions);
     fused.points.select(std::vector<std::size_t>(order.begin(), order.end()));
     times.fusion_ms += msSince(start);
