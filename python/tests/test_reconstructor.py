@@ -155,3 +155,9 @@ def test_registered_as_the_scans_arrive():
     for mine, theirs in zip(arriving.poses(), together.poses()):
         moved = mine @ np.linalg.inv(theirs) @ np.append(centre, 1.0)
         assert np.linalg.norm(moved[:3] - centre) < 3e-3
+    # Registering as the scans arrive needs the registration.
+    try:
+        icrkit.Reconstructor(register=False, register_as_scans_arrive=True)
+        assert False, "expected a ValueError"
+    except ValueError as e:
+        assert "incremental" in str(e), e

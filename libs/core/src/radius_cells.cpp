@@ -31,8 +31,10 @@ RadiusCells::RadiusCells(const std::vector<Eigen::Vector3d>& points, double radi
     hi = hi.cwiseMax(p);
   }
   origin_ = lo;
-  // Larger cubes still hold every neighbour within 27 of them.
-  edge_ = std::max(radius, (hi - lo).maxCoeff() / static_cast<double>(kAxisCubes - 2));
+  // A hair above the radius: two points exactly one radius apart could
+  // otherwise round into cubes two apart. Larger cubes (a cloud spanning
+  // more than 2^21 radii) still hold every neighbour within 27 of them.
+  edge_ = std::max(radius * (1.0 + 1e-8), (hi - lo).maxCoeff() / static_cast<double>(kAxisCubes - 2));
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3d q = (points[i] - lo) / edge_;

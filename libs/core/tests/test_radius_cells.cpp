@@ -47,6 +47,31 @@ TEST(RadiusCells, NeighbourCubesHoldEveryPointWithinTheRadius) {
   for (std::size_t i = 0; i < points.size(); ++i) EXPECT_EQ(seen[i], 1) << i;
 }
 
+// Lattice points built by adding the spacing again and again, the radius
+// equal to the spacing: neighbours exactly one radius apart, whose cube
+// coordinates round either way.
+TEST(RadiusCells, NeighboursExactlyOneRadiusApartAreFound) {
+  for (int start = 0; start < 20; ++start) {
+    const double spacing = 0.0011 + 1e-5 * start;
+    std::vector<Eigen::Vector3d> points;
+    double x = 0.0371 * start;
+    for (int k = 0; k < 200; ++k, x += spacing) points.emplace_back(x, 0.5 * x, -x);
+    const double radius = (points[1] - points[0]).norm();
+    const RadiusCells cells(points, radius);
+    std::vector<std::size_t> around;
+    for (std::size_t c = 0; c < cells.cellCount(); ++c) {
+      cells.neighbourCells(c, around);
+      std::set<std::size_t> near;
+      for (std::size_t cube : around) near.insert(cells.cellBegin(cube), cells.cellEnd(cube));
+      for (const std::uint32_t* it = cells.cellBegin(c); it != cells.cellEnd(c); ++it)
+        for (std::size_t j = 0; j < points.size(); ++j)
+          if ((points[j] - points[*it]).norm() <= radius) {
+            EXPECT_TRUE(near.count(j)) << start << ": " << *it << " " << j;
+          }
+    }
+  }
+}
+
 TEST(RadiusCells, RejectsBadInput) {
   const std::vector<Eigen::Vector3d> points{Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones()};
   EXPECT_THROW(RadiusCells(points, 0.0), std::invalid_argument);

@@ -65,7 +65,7 @@ private:
     return true;
   }
 
-  octomap::OcTreeKey min_;
+  octomap::OcTreeKey min_{0, 0, 0};
   std::uint32_t size_[3] = {0, 0, 0};
   std::vector<std::uint64_t> bits_;
   octomap::KeySet outside_;

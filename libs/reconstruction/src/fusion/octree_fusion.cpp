@@ -40,6 +40,9 @@ struct OctreeFusion::Impl {
   OctreeFusionParameters params;
   octomap::OcTree tree;
   bool finished = false;
+  // Set when an insertion failed part-way (out of memory): the tree may then
+  // hold some of its scans, so later calls refuse.
+  std::string broken;
   double time_ms = 0.0;
   OctreeFusionReport report;
   // The candidates seen so far, in insertion order: the fused model.
@@ -198,7 +201,13 @@ void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>
   if (impl_->finished) throw std::logic_error("OctreeFusion::insert after finish()");
   checkCandidates(scan, candidate);
   const auto start = std::chrono::steady_clock::now();
-  impl_->apply(scan, candidate, traceScan(impl_->tree, impl_->params, scan));
+  if (!impl_->broken.empty()) throw std::logic_error("OctreeFusion::insert after a failed insert: " + impl_->broken);
+  try {
+    impl_->apply(scan, candidate, traceScan(impl_->tree, impl_->params, scan));
+  } catch (const std::exception& e) {
+    impl_->broken = e.what();
+    throw;
+  }
   impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -213,33 +222,36 @@ void OctreeFusion::insert(const std::vector<RangeScan>& scans, const std::vector
     return candidates.empty() ? kEveryPoint : candidates[i];
   };
   for (std::size_t i = 0; i < scans.size(); ++i) checkCandidates(scans[i], maskOf(i));
+  if (!impl_->broken.empty()) throw std::logic_error("OctreeFusion::insert after a failed insert: " + impl_->broken);
   const auto start = std::chrono::steady_clock::now();
   // Traced in parallel, applied in scan order as each is ready: a scan is
   // applied while the next ones are traced. The tree is the same as
   // applying them one by one.
+  using Traced = std::pair<std::size_t, std::shared_ptr<TracedScan>>;
   std::size_t next = 0;
-  tbb::parallel_pipeline(
-      2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency())),
-      tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
-                                          [&](tbb::flow_control& control) -> std::size_t {
-                                            if (next == scans.size()) control.stop();
-                                            return next++;
-                                          }) &
-          tbb::make_filter<std::size_t, std::pair<std::size_t, std::shared_ptr<TracedScan>>>(
-              tbb::filter_mode::parallel,
-              [&](std::size_t i) {
-                return std::make_pair(i, std::make_shared<TracedScan>(traceScan(impl_->tree, impl_->params, scans[i])));
-              }) &
-          tbb::make_filter<std::pair<std::size_t, std::shared_ptr<TracedScan>>, void>(
-              tbb::filter_mode::serial_in_order,
-              [&](const std::pair<std::size_t, std::shared_ptr<TracedScan>>& traced) {
-                impl_->apply(scans[traced.first], maskOf(traced.first), *traced.second);
-              }));
+  auto emit = [&](tbb::flow_control& control) -> std::size_t {
+    if (next == scans.size()) control.stop();
+    return next++;
+  };
+  auto trace = [&](std::size_t i) {
+    return Traced(i, std::make_shared<TracedScan>(traceScan(impl_->tree, impl_->params, scans[i])));
+  };
+  auto apply = [&](const Traced& traced) { impl_->apply(scans[traced.first], maskOf(traced.first), *traced.second); };
+  try {
+    tbb::parallel_pipeline(2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency())),
+                           tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order, emit) &
+                               tbb::make_filter<std::size_t, Traced>(tbb::filter_mode::parallel, trace) &
+                               tbb::make_filter<Traced, void>(tbb::filter_mode::serial_in_order, apply));
+  } catch (const std::exception& e) {
+    impl_->broken = e.what();
+    throw;
+  }
   impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 OctreeFusionResult OctreeFusion::finish() {
   if (impl_->finished) throw std::logic_error("OctreeFusion::finish called twice");
+  if (!impl_->broken.empty()) throw std::logic_error("OctreeFusion::finish after a failed insert: " + impl_->broken);
   const auto start = std::chrono::steady_clock::now();
   Impl& s = *impl_;
   s.finished = true;

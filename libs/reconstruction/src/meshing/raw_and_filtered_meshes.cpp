@@ -44,7 +44,10 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
   // v3 normals face each point's own sensor, like the raw cloud's; with
   // them the smoothing skips orienting its normals over a neighbour graph
   // (a third of its time on 36 views), which the sensors would overrule.
-  if (viewpoints.size() == smoothed.size()) smoothing.viewpoints = viewpoints;
+  if (viewpoints.size() == smoothed.size()) {
+    smoothing.viewpoints = viewpoints;
+    smoothing.viewpoint.reset();  // it would take precedence over them
+  }
   out.smoothing = ndt::smoothPointCloud(smoothed, smoothing, [&](const std::string&, std::size_t d, std::size_t t) {
     report(progress, "smoothing", d, t);
   });

@@ -336,44 +336,46 @@ const ScanRegistrationRecord& SequenceRegistration::add(const PointCloud& points
   record.initial_pose = initial_pose;
   record.start_pose = s.params.propagate_correction ? s.correction * initial_pose : initial_pose;
   record.model_pose = record.start_pose;
-  if (index == 0) s.adaptResolutions(points.positions);
-  std::vector<Eigen::Vector3d> reduced = s.reduce(points);
-  // Only the scan-to-model pass needs them now; finish() estimates the
-  // others for all scans at once, in parallel.
-  std::vector<Eigen::Vector3d> normals;
-  if (s.params.scan_to_model) normals = s.surfaceNormals(reduced);
-
-  if (index == 0 || !s.params.scan_to_model) {
-    record.model_pose = initial_pose;
-    record.start_pose = initial_pose;
-    if (index > 0) record.rejection = "scan-to-model registration is off";
-  } else if (!s.target) {
-    record.rejection = "no model to register against (every earlier scan was rejected)";
-  } else {
-    record.model_points = s.target->size();
-    const ndt::NdtParameters ndt = s.coarseNdt();
-    try {
-      ndt::NdtResult r = ndt::registerNdt(positionsOnly(reduced), *s.target, record.start_pose, ndt);
-      const Observability o = scanObservability(reduced, normals, record.start_pose, s.params.degeneracy_ratio);
-      if (s.params.degeneracy_ratio > 0) remapDegenerate(r, record.start_pose, o);
-      record.degenerate_directions = o.degenerate_directions;
-      record.weakest_direction_ratio = o.weakest_ratio;
-      record.normalized_score = r.normalized_score;
-      record.iterations = r.iterations;
-      record.converged = r.converged;
-      record.rejection = s.judge(r, initial_pose, reduced, "the reported pose");
-      if (record.rejection.empty()) {
-        record.registered = true;
-        record.model_pose = r.pose;
-      }
-    } catch (const InputError& e) {
-      record.rejection = std::string("NDT: ") + e.what();
-    }
-  }
-  const Eigen::Isometry3d moved = record.model_pose * initial_pose.inverse();
-  record.correction_translation_m = moved.translation().norm();
-  record.correction_rotation_rad = rotationAngle(moved);
+  // From here on the state changes (the first scan adapts the parameters):
+  // a failure leaves the object refusing further calls.
   try {
+    if (index == 0) s.adaptResolutions(points.positions);
+    std::vector<Eigen::Vector3d> reduced = s.reduce(points);
+    // Only the scan-to-model pass needs them now; finish() estimates the
+    // others for all scans at once, in parallel.
+    std::vector<Eigen::Vector3d> normals;
+    if (s.params.scan_to_model) normals = s.surfaceNormals(reduced);
+
+    if (index == 0 || !s.params.scan_to_model) {
+      record.model_pose = initial_pose;
+      record.start_pose = initial_pose;
+      if (index > 0) record.rejection = "scan-to-model registration is off";
+    } else if (!s.target) {
+      record.rejection = "no model to register against (every earlier scan was rejected)";
+    } else {
+      record.model_points = s.target->size();
+      const ndt::NdtParameters ndt = s.coarseNdt();
+      try {
+        ndt::NdtResult r = ndt::registerNdt(positionsOnly(reduced), *s.target, record.start_pose, ndt);
+        const Observability o = scanObservability(reduced, normals, record.start_pose, s.params.degeneracy_ratio);
+        if (s.params.degeneracy_ratio > 0) remapDegenerate(r, record.start_pose, o);
+        record.degenerate_directions = o.degenerate_directions;
+        record.weakest_direction_ratio = o.weakest_ratio;
+        record.normalized_score = r.normalized_score;
+        record.iterations = r.iterations;
+        record.converged = r.converged;
+        record.rejection = s.judge(r, initial_pose, reduced, "the reported pose");
+        if (record.rejection.empty()) {
+          record.registered = true;
+          record.model_pose = r.pose;
+        }
+      } catch (const InputError& e) {
+        record.rejection = std::string("NDT: ") + e.what();
+      }
+    }
+    const Eigen::Isometry3d moved = record.model_pose * initial_pose.inverse();
+    record.correction_translation_m = moved.translation().norm();
+    record.correction_rotation_rad = rotationAngle(moved);
     s.commit(points, std::move(record), std::move(reduced), std::move(normals), prior, moved, start);
   } catch (const std::exception& e) {
     s.broken = e.what();

@@ -22,12 +22,13 @@ class RadiusCells {
 public:
   /// Throws std::invalid_argument for radius <= 0 or non-finite points.
   /// Copies what it needs: `points` may change afterwards. Cubes are of
-  /// edge `radius`, larger only where the points span more than 2^21 radii
-  /// (the Z-order code's range).
+  /// edge `radius` (and 1e-8 of it, against rounding), larger only where
+  /// the points span more than 2^21 radii (the Z-order code's range).
   RadiusCells(const std::vector<Eigen::Vector3d>& points, double radius);
 
   double radius() const { return radius_; }
-  /// The cubes' edge: `radius`, or more for a cloud spanning over 2^21 radii.
+  /// The cubes' edge: just over `radius`, or more for a cloud spanning over
+  /// 2^21 radii.
   double edge() const { return edge_; }
   std::size_t cellCount() const { return cell_start_.empty() ? 0 : cell_start_.size() - 1; }
   /// The points of cube c, ascending indices into the input.

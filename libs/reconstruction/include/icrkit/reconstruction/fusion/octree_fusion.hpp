@@ -90,8 +90,11 @@ public:
   void insert(const RangeScan& scan, const std::vector<std::uint8_t>& candidate = {});
   /// Several scans, in order: the same tree and model as insert() called
   /// for each in turn. Tracing their rays, the costly part that reads
-  /// nothing of the tree, runs in parallel; the updates follow in order.
-  /// `candidates`: empty, or one mask per scan.
+  /// nothing of the tree, runs in parallel; the updates follow in order,
+  /// each as soon as its scan is traced. `candidates`: empty, or one mask
+  /// per scan. An insertion that fails part-way (out of memory) leaves the
+  /// fusion refusing every later call (std::logic_error): some of its scans
+  /// may be in the tree.
   void insert(const std::vector<RangeScan>& scans, const std::vector<std::vector<std::uint8_t>>& candidates);
 
   /// Decides which candidates survive; the fusion cannot be used afterwards.
