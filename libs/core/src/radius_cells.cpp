@@ -4,6 +4,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -35,13 +36,16 @@ RadiusCells::RadiusCells(const std::vector<Eigen::Vector3d>& points, double radi
   // otherwise round into cubes two apart. Larger cubes (a cloud spanning
   // more than 2^21 radii) still hold every neighbour within 27 of them.
   edge_ = std::max(radius * (1.0 + 1e-8), (hi - lo).maxCoeff() / static_cast<double>(kAxisCubes - 2));
+  auto cubeOf = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = (p - lo) / edge_;
+    std::array<std::int64_t, 3> cube;
+    for (int a = 0; a < 3; ++a) cube[a] = std::min<std::int64_t>(static_cast<std::int64_t>(q[a]), kAxisCubes - 1);
+    return cube;
+  };
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d q = (points[i] - lo) / edge_;
-    const auto x = std::min<std::int64_t>(static_cast<std::int64_t>(q.x()), kAxisCubes - 1),
-               y = std::min<std::int64_t>(static_cast<std::int64_t>(q.y()), kAxisCubes - 1),
-               z = std::min<std::int64_t>(static_cast<std::int64_t>(q.z()), kAxisCubes - 1);
-    keyed[i] = {mortonCode(x, y, z), static_cast<std::uint32_t>(i)};
+    const std::array<std::int64_t, 3> cube = cubeOf(points[i]);
+    keyed[i] = {mortonCode(cube[0], cube[1], cube[2]), static_cast<std::uint32_t>(i)};
   }
   tbb::parallel_sort(keyed.begin(), keyed.end());
   order_.resize(points.size());
@@ -50,9 +54,8 @@ RadiusCells::RadiusCells(const std::vector<Eigen::Vector3d>& points, double radi
     if (k == 0 || keyed[k].first != keyed[k - 1].first) {
       codes_.push_back(keyed[k].first);
       cell_start_.push_back(k);
-      const Eigen::Vector3d q = (points[keyed[k].second] - lo) / edge_;
-      for (int a = 0; a < 3; ++a)
-        coords_.push_back(static_cast<std::int32_t>(std::min<std::int64_t>(static_cast<std::int64_t>(q[a]), kAxisCubes - 1)));
+      for (std::int64_t coordinate : cubeOf(points[keyed[k].second]))
+        coords_.push_back(static_cast<std::int32_t>(coordinate));
     }
   }
   cell_start_.push_back(points.size());

@@ -1,4 +1,5 @@
 #include <icrkit/core/ray_caster.hpp>
+#include <icrkit/core/morton_order.hpp>
 #include <icrkit/core/triangle_distance.hpp>
 
 #include <embree3/rtcore.h>
@@ -454,30 +455,16 @@ struct RayCaster::Impl {
                         for (std::size_t i = range.begin(); i != range.end(); ++i) {
                           const Eigen::Vector3d cell =
                               (queries[i] - offset - local_bounds.min()).cwiseProduct(scale);
-                          std::uint64_t code = 0;
-                          for (int axis = 0; axis < 3; ++axis) {
-                            // NaN fails the comparison and lands in cell 0.
-                            const double c = cell[axis] > 0.0 ? std::min(cell[axis], top) : 0.0;
-                            code |= spreadBits(static_cast<std::uint64_t>(c)) << axis;
-                          }
-                          keys[i] = {code, i};
+                          std::int64_t c[3];
+                          for (int axis = 0; axis < 3; ++axis)  // NaN fails the comparison and lands in cell 0
+                            c[axis] = static_cast<std::int64_t>(cell[axis] > 0.0 ? std::min(cell[axis], top) : 0.0);
+                          keys[i] = {mortonCode(c[0], c[1], c[2]), i};
                         }
                       });
     tbb::parallel_sort(keys.begin(), keys.end());  // keys are unique: one order whatever the threads
     std::vector<std::size_t> order(keys.size());
     for (std::size_t k = 0; k < keys.size(); ++k) order[k] = keys[k].second;
     return order;
-  }
-
-  // The low 21 bits of x moved to every third bit.
-  static std::uint64_t spreadBits(std::uint64_t x) {
-    x &= 0x1FFFFFULL;
-    x = (x | (x << 32)) & 0x1F00000000FFFFULL;
-    x = (x | (x << 16)) & 0x1F0000FF0000FFULL;
-    x = (x | (x << 8)) & 0x100F00F00F00F00FULL;
-    x = (x | (x << 4)) & 0x10C30C30C30C30C3ULL;
-    x = (x | (x << 2)) & 0x1249249249249249ULL;
-    return x;
   }
 
   ClosestPoint closestPoint(const Eigen::Vector3d& query, double max_distance, const std::uint8_t* mask) const {

@@ -13,6 +13,17 @@
 namespace icrkit {
 namespace {
 
+// The points of the cubes around cube c.
+std::set<std::size_t> pointsAround(const RadiusCells& cells, std::size_t c) {
+  std::vector<std::size_t> around;
+  cells.neighbourCells(c, around);
+  EXPECT_LE(around.size(), 27u);
+  EXPECT_NE(std::find(around.begin(), around.end(), c), around.end());
+  std::set<std::size_t> near;
+  for (std::size_t cube : around) near.insert(cells.cellBegin(cube), cells.cellEnd(cube));
+  return near;
+}
+
 // Every point's neighbours within the radius, found through the cubes,
 // equal the brute-force answer; each point lies in exactly one cube.
 TEST(RadiusCells, NeighbourCubesHoldEveryPointWithinTheRadius) {
@@ -24,14 +35,9 @@ TEST(RadiusCells, NeighbourCubesHoldEveryPointWithinTheRadius) {
   const double radius = 0.012;
   const RadiusCells cells(points, radius);
   std::vector<int> seen(points.size(), 0);
-  std::vector<std::size_t> around;
   for (std::size_t c = 0; c < cells.cellCount(); ++c) {
     ASSERT_TRUE(std::is_sorted(cells.cellBegin(c), cells.cellEnd(c)));
-    std::set<std::size_t> candidates;
-    cells.neighbourCells(c, around);
-    EXPECT_LE(around.size(), 27u);
-    EXPECT_NE(std::find(around.begin(), around.end(), c), around.end());
-    for (std::size_t cube : around) candidates.insert(cells.cellBegin(cube), cells.cellEnd(cube));
+    const std::set<std::size_t> candidates = pointsAround(cells, c);
     for (const std::uint32_t* it = cells.cellBegin(c); it != cells.cellEnd(c); ++it) {
       ++seen[*it];
       // The point lies in its cube's box.
@@ -58,11 +64,8 @@ TEST(RadiusCells, NeighboursExactlyOneRadiusApartAreFound) {
     for (int k = 0; k < 200; ++k, x += spacing) points.emplace_back(x, 0.5 * x, -x);
     const double radius = (points[1] - points[0]).norm();
     const RadiusCells cells(points, radius);
-    std::vector<std::size_t> around;
     for (std::size_t c = 0; c < cells.cellCount(); ++c) {
-      cells.neighbourCells(c, around);
-      std::set<std::size_t> near;
-      for (std::size_t cube : around) near.insert(cells.cellBegin(cube), cells.cellEnd(cube));
+      const std::set<std::size_t> near = pointsAround(cells, c);
       for (const std::uint32_t* it = cells.cellBegin(c); it != cells.cellEnd(c); ++it)
         for (std::size_t j = 0; j < points.size(); ++j)
           if ((points[j] - points[*it]).norm() <= radius) {
@@ -87,11 +90,8 @@ TEST(RadiusCells, CloudsWiderThanTheCodeRangeGetLargerCubes) {
                                             Eigen::Vector3d(1000, 0, 0), Eigen::Vector3d(1000, 5e-5, 0)};
   const RadiusCells cells(points, 1e-4);
   EXPECT_GT(cells.edge(), 1e-4);
-  std::vector<std::size_t> around;
   for (std::size_t c = 0; c < cells.cellCount(); ++c) {
-    cells.neighbourCells(c, around);
-    std::set<std::size_t> near;
-    for (std::size_t cube : around) near.insert(cells.cellBegin(cube), cells.cellEnd(cube));
+    const std::set<std::size_t> near = pointsAround(cells, c);
     for (const std::uint32_t* it = cells.cellBegin(c); it != cells.cellEnd(c); ++it)
       EXPECT_TRUE(near.count(*it ^ 1u)) << *it;  // 0 with 1, 2 with 3
   }

@@ -43,6 +43,19 @@ struct OctreeFusion::Impl {
   // Set when an insertion failed part-way (out of memory): the tree may then
   // hold some of its scans, so later calls refuse.
   std::string broken;
+  void refuseIfBroken(const char* call) const {
+    if (!broken.empty()) throw std::logic_error(std::string("OctreeFusion::") + call + " after a failed insert: " + broken);
+  }
+  // Runs an insertion; a failure marks the fusion broken.
+  template <class Insert>
+  void guarded(Insert insert) {
+    try {
+      insert();
+    } catch (const std::exception& e) {
+      broken = e.what();
+      throw;
+    }
+  }
   double time_ms = 0.0;
   OctreeFusionReport report;
   // The candidates seen so far, in insertion order: the fused model.
@@ -200,14 +213,9 @@ void OctreeFusion::Impl::apply(const RangeScan& scan, const std::vector<std::uin
 void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>& candidate) {
   if (impl_->finished) throw std::logic_error("OctreeFusion::insert after finish()");
   checkCandidates(scan, candidate);
+  impl_->refuseIfBroken("insert");
   const auto start = std::chrono::steady_clock::now();
-  if (!impl_->broken.empty()) throw std::logic_error("OctreeFusion::insert after a failed insert: " + impl_->broken);
-  try {
-    impl_->apply(scan, candidate, traceScan(impl_->tree, impl_->params, scan));
-  } catch (const std::exception& e) {
-    impl_->broken = e.what();
-    throw;
-  }
+  impl_->guarded([&] { impl_->apply(scan, candidate, traceScan(impl_->tree, impl_->params, scan)); });
   impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -222,7 +230,7 @@ void OctreeFusion::insert(const std::vector<RangeScan>& scans, const std::vector
     return candidates.empty() ? kEveryPoint : candidates[i];
   };
   for (std::size_t i = 0; i < scans.size(); ++i) checkCandidates(scans[i], maskOf(i));
-  if (!impl_->broken.empty()) throw std::logic_error("OctreeFusion::insert after a failed insert: " + impl_->broken);
+  impl_->refuseIfBroken("insert");
   const auto start = std::chrono::steady_clock::now();
   // Traced in parallel, applied in scan order as each is ready: a scan is
   // applied while the next ones are traced. The tree is the same as
@@ -237,21 +245,18 @@ void OctreeFusion::insert(const std::vector<RangeScan>& scans, const std::vector
     return Traced(i, std::make_shared<TracedScan>(traceScan(impl_->tree, impl_->params, scans[i])));
   };
   auto apply = [&](const Traced& traced) { impl_->apply(scans[traced.first], maskOf(traced.first), *traced.second); };
-  try {
+  impl_->guarded([&] {
     tbb::parallel_pipeline(2 * static_cast<std::size_t>(std::max(1, tbb::this_task_arena::max_concurrency())),
                            tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order, emit) &
                                tbb::make_filter<std::size_t, Traced>(tbb::filter_mode::parallel, trace) &
                                tbb::make_filter<Traced, void>(tbb::filter_mode::serial_in_order, apply));
-  } catch (const std::exception& e) {
-    impl_->broken = e.what();
-    throw;
-  }
+  });
   impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 OctreeFusionResult OctreeFusion::finish() {
   if (impl_->finished) throw std::logic_error("OctreeFusion::finish called twice");
-  if (!impl_->broken.empty()) throw std::logic_error("OctreeFusion::finish after a failed insert: " + impl_->broken);
+  impl_->refuseIfBroken("finish");
   const auto start = std::chrono::steady_clock::now();
   Impl& s = *impl_;
   s.finished = true;
