@@ -31,7 +31,7 @@ using namespace icrkit;
 
 int main(int argc, char** argv) {
   if (argc < 4 || std::string(argv[2]) != "-o") {
-    std::fprintf(stderr, "usage: %s VIEWS_DIR -o POSES.txt [--no-model-alignment] [--set NAME=VALUE]...\n", argv[0]);
+    std::fprintf(stderr, "usage: %s VIEWS_DIR -o POSES.txt [--no-model-alignment] [--set NAME=VALUE]... (e.g. --set joint=1: the joint refinement)\n", argv[0]);
     return 2;
   }
   try {
@@ -87,6 +87,10 @@ int main(int argc, char** argv) {
       else if (name == "min_normalized_score") r.min_normalized_score = value;
       else if (name == "model_max_translation") r.model_alignment_max_translation = value;
       else if (name == "incremental") r.incremental = value != 0;
+      else if (name == "joint") r.joint_refinement = value != 0;
+      else if (name == "joint_incidence") r.joint.target_max_incidence = value;
+      else if (name == "joint_iterations") r.joint.iterations = int(value);
+      else if (name == "joint_normal_radius") r.joint_normal_radius = value;
       else throw InputError(name, "", "not a parameter this tool sets");
     }
     const auto start = std::chrono::steady_clock::now();
@@ -101,6 +105,8 @@ int main(int argc, char** argv) {
     std::cout << nlohmann::json{{"views", views.size()},
                                 {"time_s", seconds},
                                 {"pairs_accepted", accepted},
+                                {"joint_iterations", result.joint_iterations},
+                                {"joint_pairs", result.joint_pairs},
                                 {"pairs_rejected", result.pairs.size() - accepted},
                                 {"model_alignment_accepted", result.model_alignment_accepted},
                                 {"model_alignment_median_move_m", result.model_alignment_median_move_m},

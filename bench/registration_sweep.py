@@ -96,10 +96,23 @@ def prepare(name, build, work, sim_seed):
                 m[:3, :3] = quaternion_to_matrix(list(map(float, f[5:9]))).T
                 m[:3, 3] = list(map(float, f[2:5]))
                 conf[f[1]] = m
+        # The scans are in the scanner's frame with the bunny at its origin;
+        # icrkit takes a view's points in its sensor's frame (the sensor at
+        # the origin, x forward, z up), as a depth camera gives them. The
+        # scanner saw every scan from +z (a height field along z): place it
+        # 0.6 m up that axis from the bunny, looking down -z, y up.
+        import open3d as o3d
+        sensor = np.eye(4)  # sensor frame -> scan frame
+        sensor[:3, :3] = np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]).T
+        sensor[:3, 3] = [-0.017, 0.11, 0.6]
+        to_sensor = np.linalg.inv(sensor)
         os.makedirs(tmp)
         for k, scan in enumerate(order):
-            os.symlink(os.path.join(data, "stanford-bunny", scan), os.path.join(tmp, f"view_{k:03d}.ply"))
-        write_tum(os.path.join(tmp, "truth.txt"), [f"{k:.6f}" for k in range(len(order))], [conf[s] for s in order])
+            cloud = o3d.io.read_point_cloud(os.path.join(data, "stanford-bunny", scan))
+            cloud.transform(to_sensor)
+            o3d.io.write_point_cloud(os.path.join(tmp, f"view_{k:03d}.ply"), cloud)
+        write_tum(os.path.join(tmp, "truth.txt"), [f"{k:.6f}" for k in range(len(order))],
+                  [conf[s] @ sensor for s in order])
         reference = os.path.join(data, "stanford-bunny", "bun_zipper.ply")
     elif name.startswith("sim_"):
         obj, sensor = {"sim_paper_cup": ("paper_cup", "kinect"), "sim_toy2": ("wooden_toy_2", "sr4000")}[name]

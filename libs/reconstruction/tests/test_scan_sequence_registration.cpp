@@ -12,6 +12,8 @@
 #include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
 #include <icrkit/sim/cad_objects.hpp>
 
+#include "stanford_bunny.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -268,24 +270,7 @@ TEST(SequenceRegistration, AnIndependentPosePriorIsWeighedAgainstTheReportedPose
 
 // ---- Stanford bunny ---------------------------------------------------------
 
-// bun.conf: `bmesh FILE tx ty tz qx qy qz qw`; a scan point p maps into the
-// common frame as R(q)^T p + t (see the data README).
-std::vector<std::pair<std::string, Eigen::Isometry3d>> readBunConf(const std::string& path) {
-  std::vector<std::pair<std::string, Eigen::Isometry3d>> poses;
-  std::ifstream in(path);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    std::string tag, file;
-    double tx, ty, tz, qx, qy, qz, qw;
-    if (!(fields >> tag >> file >> tx >> ty >> tz >> qx >> qy >> qz >> qw) || tag != "bmesh") continue;
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix().transpose();
-    pose.translation() = Eigen::Vector3d(tx, ty, tz);
-    poses.emplace_back(file, pose);
-  }
-  return poses;
-}
+using testing_support::readBunConf;
 
 TEST(SequenceRegistrationRealData, TenBunnyScansFromPerturbedPoses) {
   const std::string conf = sharedData("stanford-bunny/bun.conf");

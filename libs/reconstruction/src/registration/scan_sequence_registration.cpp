@@ -1124,6 +1124,38 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     poses.assign(solved.poses.begin(), solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
     result.graph = solved.report;
   }
+  if (params.joint_refinement && n >= 2) {
+    // Scaled as the ICP was for a sparser sensor (adaptResolutions).
+    JointRefinementParameters joint = params.joint;
+    const double scale = params.icp.kernel_width / PointToPlaneIcpParameters{}.kernel_width;
+    if (scale > 1) {
+      for (double& d : joint.max_distances) d *= scale;
+      joint.kernel_width *= scale;
+      joint.source_voxel_size *= scale;
+    }
+    std::vector<std::vector<Eigen::Vector3d>> normals(n);
+    tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+      PointCloud cloud = positionsOnly(s.reduced[i]);
+      ndt::NormalEstimationParameters facing;
+      facing.viewpoint = Eigen::Vector3d::Zero();
+      facing.radius = Length::metres(params.joint_normal_radius * std::max(1.0, scale));
+      try {
+        ndt::estimateNormals(cloud, facing);
+        normals[i] = std::move(cloud.normals);
+      } catch (const InputError&) {
+        // Too few points: the view keeps its pose.
+      }
+    });
+    std::vector<std::vector<Eigen::Vector3d>> points(n);
+    for (std::size_t i = 0; i < n; ++i)
+      if (normals[i].size() == s.reduced[i].size()) points[i] = s.reduced[i];
+      else normals[i].clear();
+    const JointRefinementResult refined = refineJointly(points, normals, poses, joint);
+    poses = refined.poses;
+    result.joint_iterations = refined.iterations;
+    result.joint_pairs = refined.pairs;
+    result.joint_rms_m = refined.rms_m;
+  }
   result.poses = poses;
 
   const bool try_loop = params.loop_closure && n >= 3;
