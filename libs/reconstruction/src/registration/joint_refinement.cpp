@@ -155,9 +155,9 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
 
   const std::size_t stages = params.max_distances.size();
   for (int it = 0; it < params.iterations; ++it) {
-    const double max_distance =
-        params.max_distances[std::min(stages - 1, static_cast<std::size_t>(it) * stages /
-                                                      static_cast<std::size_t>(std::max(1, params.iterations)))];
+    const std::size_t stage = std::min(
+        stages - 1, static_cast<std::size_t>(it) * stages / static_cast<std::size_t>(std::max(1, params.iterations)));
+    const double max_distance = params.max_distances[stage];
     const double width = std::min(params.kernel_width, max_distance);
     std::vector<ViewEquations> per_view(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
@@ -258,9 +258,7 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
       largest_t = std::max(largest_t, x.head<3>().norm());
       largest_r = std::max(largest_r, x.tail<3>().norm());
     }
-    const bool last_stage = static_cast<std::size_t>(it + 1) * stages /
-                                static_cast<std::size_t>(std::max(1, params.iterations)) >= stages - 1;
-    if (last_stage && largest_t < params.translation_epsilon && largest_r < params.rotation_epsilon) break;
+    if (stage == stages - 1 && largest_t < params.translation_epsilon && largest_r < params.rotation_epsilon) break;
   }
   return result;
 }
