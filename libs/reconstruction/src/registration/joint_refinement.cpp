@@ -99,13 +99,13 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
   result.poses = poses;
   if (n < 2) return result;
 
-  // Per view, in its sensor frame: the sources, and the targets (every
-  // point, in a search tree; only the face-on ones weigh).
+  // Per view, in its sensor frame: the sources (every point, in cubes) and
+  // the targets (the face-on points, in a search tree).
   const double min_cos = params.target_max_incidence >= M_PI / 2 ? -1.0 : std::cos(params.target_max_incidence);
   std::vector<std::vector<Eigen::Vector3d>> sources(n), source_normals(n);
   std::vector<std::vector<Eigen::Vector3d>> target_points(n), target_normals(n);
   std::vector<std::unique_ptr<KdTree>> trees(n);
-  std::vector<bool> usable(n, false);
+  std::vector<char> usable(n, 0);  // not vector<bool>: the views are filled in parallel
   tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
     if (points[i].size() < 3) return;
     reduceSources(points[i], normals[i], params.source_voxel_size, params.max_source_points, sources[i],
