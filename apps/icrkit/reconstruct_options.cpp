@@ -28,6 +28,18 @@ Eigen::AlignedBox3d parseBox(const std::string& option, const std::string& text)
   return box;
 }
 
+Eigen::Vector3d parseDirection(const std::string& option, const std::string& text) {
+  const std::vector<std::string> items = split(text, ',');
+  if (items.size() != 3) throw InputError(option, "", "expected x,y,z (a direction), got '" + text + "'");
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i)
+    if (!parseNumber(items[static_cast<std::size_t>(i)], v[i]))
+      throw InputError(option, "", "'" + items[static_cast<std::size_t>(i)] + "' is not a number");
+  if (!v.allFinite() || !(v.norm() > 1e-9))
+    throw InputError(option, "", "expected a non-zero, finite direction, got '" + text + "'");
+  return v.normalized();
+}
+
 }  // namespace
 
 void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
@@ -66,10 +78,16 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
   command.add_option("--crop-size", options.crop_size, "Half edge of the automatic crop cube (metres)")
       ->capture_default_str();
   command.add_flag("--no-plane-removal", options.no_plane, "Keep the support plane (table, plate)");
+  command.add_option("--up", options.up,
+                     "The object frame's up direction x,y,z: where the support plane is searched. Default: "
+                     "estimated from the sensor poses (+z unless the upright views say another axis)");
   command.add_flag("--no-registration", options.no_registration, "Fuse at the reported poses");
   command.add_flag("--scan-to-model", options.scan_to_model,
                    "Register each scan against the scans before it first (the paper's sequential pass; slower, "
                    "rarely better: docs/reconstruction.md)");
+  command.add_flag("--joint-refinement", options.joint_refinement,
+                   "Last, refine all views at once against each other's face-on points (off by default: better "
+                   "surfaces on the real recordings, worse poses on the simulated ones; docs/reconstruction.md)");
   command.add_flag("--register-as-scans-arrive", options.incremental_registration,
                    "Register each scan with the earlier ones as it is read (what a stream does to be ready soon "
                    "after its last frame) instead of all views together at the end: docs/reconstruction.md, \"Streaming\"");
@@ -83,6 +101,12 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
   command.add_option("--board-origin", options.board_origin,
                      "A corner of the checkerboard, object frame (x,y,z metres; default 0,0,0)");
   command.add_flag("--no-jump-edges", options.no_jump_edges, "Keep jump-edge (flying) pixels");
+  command
+      .add_option("--edge-erosion", options.edge_erosion,
+                  "Pixels taken off each foreground edge (a surface in front of the background or of no "
+                  "return), where depth cameras spread or mix the edge; 0 keeps them")
+      ->check(CLI::Range(0, 10))
+      ->capture_default_str();
   command.add_flag("--no-meshes", options.no_meshes, "Stop after the fused cloud");
   command.add_option("--min-confidence", options.min_confidence, "Drop pixels below this confidence (0-255; 0 = off)")
       ->capture_default_str();
@@ -147,9 +171,13 @@ reconstruction::ReconstructionParameters reconstructionParameters(const Reconstr
   if (!options.crop.empty()) params.crop_box = parseBox("--crop", options.crop);
   params.auto_crop_half_size = options.crop_size;
   params.remove_support_plane = !options.no_plane;
+  if (!options.up.empty()) params.up = parseDirection("--up", options.up);
   params.register_scans = !options.no_registration;
   params.registration.scan_to_model = options.scan_to_model;
   params.registration.incremental = options.incremental_registration;
+  params.registration.joint_refinement = options.joint_refinement;
+  if (options.joint_refinement && options.no_registration)
+    throw InputError("--joint-refinement", "", "needs registration (drop --no-registration)");
   params.keep_registration_input = !options.write_registration_input.empty();
   if (params.keep_registration_input && options.no_registration)
     throw InputError("--write-registration-input", "", "needs registration (drop --no-registration)");
@@ -166,6 +194,7 @@ reconstruction::ReconstructionParameters reconstructionParameters(const Reconstr
     params.board = board;
   }
   params.jump_edge_filter = !options.no_jump_edges;
+  params.foreground_edges.pixels = options.edge_erosion;
   params.make_meshes = !options.no_meshes;
   params.confidence.min_confidence = options.min_confidence;
   params.confidence.min_amplitude = options.min_amplitude;

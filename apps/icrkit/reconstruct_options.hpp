@@ -28,11 +28,14 @@ struct ReconstructOptions {
   std::string crop;
   double crop_size = 0.15;
   bool no_plane = false;
+  std::string up;
   bool no_registration = false;
   bool scan_to_model = false;
   bool incremental_registration = false;
+  bool joint_refinement = false;
   std::string write_registration_input;
   bool no_jump_edges = false;
+  int edge_erosion = 0;
   bool no_meshes = false;
   int min_confidence = 0;
   int min_amplitude = 0;

@@ -122,7 +122,8 @@ void bindReconstructor(py::module_& m) {
                               "kept until the next add. Poses are 4x4 camera-to-object matrices in the camera's "
                               "optical axes (x right, y down, z forward: ROS, TUM, OpenCV).")
       .def(py::init([](std::optional<std::vector<double>> crop_box, double auto_crop_half_size, bool register_scans,
-                       const std::string& smoothing, bool meshes, bool raw_mesh, bool register_as_scans_arrive) {
+                       const std::string& smoothing, bool meshes, bool raw_mesh, bool register_as_scans_arrive,
+                       std::optional<std::vector<double>> up) {
              reconstruction::ReconstructionParameters params;
              if (crop_box) {
                if (crop_box->size() != 6)
@@ -131,6 +132,13 @@ void bindReconstructor(py::module_& m) {
                                                      Eigen::Vector3d((*crop_box)[3], (*crop_box)[4], (*crop_box)[5]));
              }
              params.auto_crop_half_size = auto_crop_half_size;
+             if (up) {
+               const Eigen::Vector3d v = up->size() == 3 ? Eigen::Vector3d((*up)[0], (*up)[1], (*up)[2])
+                                                         : Eigen::Vector3d::Zero();
+               if (!v.allFinite() || !(v.norm() > 1e-9))
+                 throw py::value_error("up: expected a non-zero, finite direction (x, y, z) in the object frame");
+               params.up = v.normalized();
+             }
              params.register_scans = register_scans;
              params.registration.incremental = register_as_scans_arrive;
              if (smoothing == "paper")
@@ -143,7 +151,7 @@ void bindReconstructor(py::module_& m) {
            }),
            py::arg("crop_box") = py::none(), py::arg("auto_crop_half_size") = 0.15, py::arg("register") = true,
            py::arg("smoothing") = "feature", py::arg("meshes") = true, py::arg("raw_mesh") = true,
-           py::arg("register_as_scans_arrive") = false,
+           py::arg("register_as_scans_arrive") = false, py::arg("up") = py::none(),
            "`crop_box`: the object's region (object frame, metres); None: a cube of 2 x auto_crop_half_size where "
            "the views' optical axes meet. `register`: false keeps the given poses. `smoothing`: 'feature' "
            "(one-sided windows, the default of `icrkit reconstruct`) or 'paper' (Algorithm 1 as published). "
@@ -151,7 +159,9 @@ void bindReconstructor(py::module_& m) {
            "the filtered mesh, which then comes a third sooner. `register_as_scans_arrive`: each add registers its view "
            "with the earlier ones (the GIL released), so that cloud()/meshes() after the last scan only solve the pose "
            "graph, fuse and mesh; the result then differs from `icrkit reconstruct` without "
-           "--register-as-scans-arrive (docs/reconstruction.md, \"Streaming\").")
+           "--register-as-scans-arrive (docs/reconstruction.md, \"Streaming\"). `up`: the object frame's up "
+           "direction, where the support plane is searched; None: estimated from the poses (`icrkit reconstruct "
+           "--up`).")
       .def(
           "add_depth",
           [](PyReconstructor& self, const py::array& depth, const std::vector<double>& intrinsics,

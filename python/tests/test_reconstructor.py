@@ -41,6 +41,8 @@ def test_frames_from_memory_give_the_folders_meshes():
     report = reconstructor.report()
     assert report["scans"] == 18 and report["registration"]["pairs_accepted"] > 30
     assert report["input_format"] == "memory"
+    # bun_zipper's frame, +y up, read from the poses (the table filter looks along it).
+    assert report["up"] == [0.0, 1.0, 0.0] and report["up_automatic"]
     with tempfile.TemporaryDirectory() as tmp:
         reconstructor.write(tmp)
         assert sorted(os.listdir(tmp)) == ["cloud.ply", "filtered.ply", "poses.txt", "raw.ply", "reconstruction.json"]
@@ -96,6 +98,15 @@ def test_unorganised_points_and_errors():
         reconstructor.add_depth(np.zeros((4, 4), dtype=np.float32), [0.0, 1.0, 2.0, 2.0], np.eye(4))
     with pytest.raises(ValueError, match="no scans"):
         icrkit.Reconstructor().cloud()
+    with pytest.raises(ValueError, match="up: expected a non-zero"):
+        icrkit.Reconstructor(up=[0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="up: expected a non-zero"):
+        icrkit.Reconstructor(up=[0.0, 1.0])
+    given = icrkit.Reconstructor(crop_box=[-0.15, -0.15, -0.15, 0.15, 0.15, 0.15], register=False, meshes=False, up=[0, 0, 2])
+    at = np.eye(4)
+    at[2, 3] = -0.6
+    given.add_points(0.1 * np.eye(3) + [0.0, 0.0, 0.6], at)
+    assert given.report()["up"] == [0.0, 0.0, 1.0] and not given.report()["up_automatic"]
 
 
 def test_a_thread_adds_while_another_asks_for_the_cloud():

@@ -52,6 +52,7 @@ Json scanJson(const ReconstructionResult& result, std::size_t i) {
             {"removed",
              {{"confidence", f.removed_confidence},
               {"jump_edges", f.removed_jump_edges},
+              {"foreground_edges", f.removed_foreground_edges},
               {"range", f.removed_range},
               {"crop", f.removed_crop},
               {"support_plane", f.removed_plane}}},
@@ -231,10 +232,11 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
   for (std::size_t i = 0; i < n; ++i) scans.push_back(scanJson(result, i));
   // What the scan filters removed, over all scans; "jump_edges" are the
   // mixed (flying) pixels between a foreground edge and the background.
-  Json removed = {{"confidence", 0}, {"jump_edges", 0}, {"range", 0}, {"crop", 0}, {"support_plane", 0}};
+  Json removed = {{"confidence", 0}, {"jump_edges", 0}, {"foreground_edges", 0}, {"range", 0}, {"crop", 0}, {"support_plane", 0}};
   for (const ScanFilterRecord& f : result.filters) {
     removed["confidence"] = removed["confidence"].get<std::size_t>() + f.removed_confidence;
     removed["jump_edges"] = removed["jump_edges"].get<std::size_t>() + f.removed_jump_edges;
+    removed["foreground_edges"] = removed["foreground_edges"].get<std::size_t>() + f.removed_foreground_edges;
     removed["range"] = removed["range"].get<std::size_t>() + f.removed_range;
     removed["crop"] = removed["crop"].get<std::size_t>() + f.removed_crop;
     removed["support_plane"] = removed["support_plane"].get<std::size_t>() + f.removed_plane;
@@ -254,6 +256,8 @@ std::string reconstructionRecordJson(const ReconstructionResult& result, const R
       {"depth_camera", result.depth_camera ? Json::parse(depthCameraRecordJson(*result.depth_camera)) : Json(nullptr)},
       {"crop_box_m", {box.min().x(), box.min().y(), box.min().z(), box.max().x(), box.max().y(), box.max().z()}},
       {"crop_box_automatic", result.crop_box_automatic},
+      {"up", {result.up.x(), result.up.y(), result.up.z()}},
+      {"up_automatic", result.up_automatic},
       {"scan_spacing_m", result.scan_spacing_m},
       {"range_correction", nullOr(input.range_correction_file)},
       {"board", params.board

@@ -63,6 +63,8 @@ std::optional<Eigen::Vector3d> convergencePoint(const std::vector<Eigen::Isometr
 void validateReconstructionParameters(const ReconstructionParameters& params) {
   if (!(params.rotation_tolerance >= 0) || !std::isfinite(params.rotation_tolerance))
     throw InputError("ReconstructionParameters::rotation_tolerance", "", "expected max |R^T R - I| >= 0");
+  if (params.up && (!params.up->allFinite() || !(params.up->norm() > 1e-9)))
+    throw InputError("ReconstructionParameters::up", "", "expected a non-zero, finite direction");
   if (!(params.auto_crop_half_size > 0) || !std::isfinite(params.auto_crop_half_size))
     throw InputError("ReconstructionParameters::auto_crop_half_size", "", "expected a positive half-size in metres");
   if (params.crop_box && (params.crop_box->isEmpty() || !params.crop_box->min().allFinite() ||

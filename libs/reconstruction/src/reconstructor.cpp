@@ -3,6 +3,7 @@
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/morton_order.hpp>
+#include <icrkit/reconstruction/input/up_axis.hpp>
 #include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 
 #include <tbb/parallel_for.h>
@@ -67,13 +68,14 @@ bool exactInFloat(const std::vector<Eigen::Vector3d>& points) {
 // belong to the object (`object`, one flag per point): every point left by
 // the sensor filters still carves free space in the fusion.
 void selectObjectPoints(const RangeScan& scan, const ReconstructionParameters& params, const Eigen::AlignedBox3d& box,
-                        std::vector<std::uint8_t>& object, ScanFilterRecord& record) {
+                        const Eigen::Vector3d& up, std::vector<std::uint8_t>& object, ScanFilterRecord& record) {
   RangeScan cropped = scan;
   record.removed_crop = filterCropBox(cropped, box).removed;
   if (params.remove_support_plane) {
     PlaneRemovalParameters plane = params.support_plane;
+    plane.up = up;
     // The table or plate lies somewhere in the box's lower half.
-    plane.band = 0.5 * box.sizes().z();
+    plane.band = 0.5 * box.sizes().dot(up.cwiseAbs());
     const PlaneRemovalReport removal = removeSupportPlane(cropped, box, plane);
     record.removed_plane = removal.removed;
     record.plane_found = removal.found;
@@ -157,6 +159,7 @@ struct Reconstructor::Impl {
     record.valid_pixels = scan.validPixels();
     record.removed_confidence = filterConfidence(scan, params.confidence).removed;
     if (params.jump_edge_filter && organised) record.removed_jump_edges = filterJumpEdges(scan, params.jump_edges).removed;
+    if (organised) record.removed_foreground_edges = filterForegroundEdges(scan, params.foreground_edges).removed;
     record.removed_range = filterRange(scan, params.range).removed;
     add_filter_ms += msSince(start);
     poses_orthonormalised += scan.pose_orthonormalised;
@@ -177,13 +180,20 @@ struct Reconstructor::Impl {
     }
   }
 
-  SelectedScan select(const StoredScan& stored, const RangeScan& scan, const Eigen::AlignedBox3d& box) const;
+  SelectedScan select(const StoredScan& stored, const RangeScan& scan, const Eigen::AlignedBox3d& box,
+                      const Eigen::Vector3d& up) const;
+
+  // The given up direction, else the one the poses suggest.
+  Eigen::Vector3d upFrom(const std::vector<Eigen::Isometry3d>& poses) const {
+    return params.up ? params.up->normalized() : estimateUpAxis(poses);
+  }
 
   // Registration as the scans arrive (params.registration.incremental):
   // once the crop box is known, every scan is selected and registered by
   // add(); update() solves the graph from there.
   std::optional<Eigen::AlignedBox3d> live_box;
   bool live_box_automatic = false;
+  Eigen::Vector3d live_up = Eigen::Vector3d::UnitZ();
   std::optional<SequenceRegistration> live;
   std::vector<SelectedScan> live_scans;  // per scan handed to `live`
   std::optional<InputError> live_error;  // a scan that cannot be registered: thrown by update()
@@ -197,10 +207,10 @@ struct Reconstructor::Impl {
 };
 
 SelectedScan Reconstructor::Impl::select(const StoredScan& stored, const RangeScan& scan,
-                                         const Eigen::AlignedBox3d& box) const {
+                                         const Eigen::AlignedBox3d& box, const Eigen::Vector3d& up) const {
   SelectedScan out;
   out.record = stored.sensor_filters;
-  selectObjectPoints(scan, params, box, out.object, out.record);
+  selectObjectPoints(scan, params, box, up, out.object, out.record);
   if (params.board) {
     const LatticePose& board_pose = stored.board_pose;
     if (board_pose.found) {
@@ -218,12 +228,14 @@ SelectedScan Reconstructor::Impl::select(const StoredScan& stored, const RangeSc
 
 void Reconstructor::Impl::placeBox() {
   if (live_box) return;
+  std::vector<Eigen::Isometry3d> poses;
+  for (const StoredScan& s : scans) poses.push_back(s.scan.sensor_pose);
+  // Decided with the box, from the same views, and kept with it.
+  live_up = upFrom(poses);
   if (params.crop_box) {
     live_box = *params.crop_box;
     return;
   }
-  std::vector<Eigen::Isometry3d> poses;
-  for (const StoredScan& s : scans) poses.push_back(s.scan.sensor_pose);
   if (!axesSpread(poses)) return;
   if (const std::optional<Eigen::Vector3d> centre = convergencePoint(poses)) {
     const Eigen::Vector3d half = Eigen::Vector3d::Constant(params.auto_crop_half_size);
@@ -239,7 +251,7 @@ void Reconstructor::Impl::advance() {
     const std::size_t i = live_scans.size();
     auto start = Clock::now();
     const RangeScan scan = scans[i].restore();
-    SelectedScan selected = select(scans[i], scan, *live_box);
+    SelectedScan selected = select(scans[i], scan, *live_box, live_up);
     live_filter_ms += msSince(start);
     if (selected.record.object_points == 0) {
       live_error = InputError(source, where(i),
@@ -394,6 +406,8 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
   // here the same way, from scratch, and nothing is kept: the box a later
   // scan places must not depend on when update() was called.
   const bool incremental = params.registration.incremental && live_box.has_value();
+  result.up = incremental ? live_up : upFrom(result.reported_poses);
+  result.up_automatic = !params.up.has_value();
   if (params.crop_box) {
     result.crop_box = *params.crop_box;
   } else if (incremental) {
@@ -459,7 +473,7 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
       const StoredScan& stored = scans[i];
       auto start = Clock::now();
       const RangeScan scan = stored.restore();
-      SelectedScan selected = select(stored, scan, result.crop_box);
+      SelectedScan selected = select(stored, scan, result.crop_box, result.up);
       record(selected);
       objects[i] = std::move(selected.object);
       times.filter_ms += msSince(start);

@@ -64,6 +64,39 @@ TEST(JumpEdges, SmoothSurfacesStay) {
   EXPECT_EQ(filterJumpEdges(scan, {}).removed, 0u);
 }
 
+// A 20 x 20 pixel square at 0.5 m in front of a wall at 1 m, a 30 x 10
+// pixel gap without returns in the wall, and one dropout inside the square.
+TEST(ForegroundEdges, ErodesEdgesInFrontOfBackgroundAndGaps) {
+  RangeScan scan = frontalScan();
+  auto at = [](int r, int c) { return static_cast<std::size_t>(r) * 80 + c; };
+  for (int r = 0; r < 60; ++r)
+    for (int c = 0; c < 80; ++c) scan.range[at(r, c)] = (r >= 10 && r < 30 && c >= 10 && c < 30) ? 0.5f : 1.0f;
+  for (int r = 40; r < 50; ++r)
+    for (int c = 40; c < 70; ++c) scan.range[at(r, c)] = 0.0f;  // the gap
+  scan.range[at(20, 20)] = 0.0f;                                 // the dropout
+  unprojectPinhole(scan);
+  const std::size_t before = scan.validPixels();
+  ForegroundEdgeParameters params;
+  params.pixels = 1;
+  const FilterReport report = filterForegroundEdges(scan, params);
+  EXPECT_EQ(report.pixels_before, before);
+  EXPECT_EQ(scan.points.size(), scan.validPixels());
+  // The square loses its outer ring (76 pixels), the wall its ring around
+  // the gap (2 x 32 + 2 x 10 = 84), the dropout's neighbours nothing.
+  EXPECT_EQ(report.removed, 76u + 84u);
+  EXPECT_EQ(scan.range[at(10, 10)], 0.0f);
+  EXPECT_EQ(scan.range[at(29, 15)], 0.0f);
+  EXPECT_GT(scan.range[at(11, 11)], 0.0f);
+  EXPECT_GT(scan.range[at(19, 20)], 0.0f);  // next to the dropout
+  EXPECT_GT(scan.range[at(9, 10)], 0.0f);   // the wall behind the square's edge stays
+  EXPECT_EQ(scan.range[at(39, 45)], 0.0f);
+  EXPECT_GT(scan.range[at(38, 45)], 0.0f);
+  // The image border is not an edge; 0 pixels is off.
+  EXPECT_GT(scan.range[at(0, 0)], 0.0f);
+  params.pixels = 0;
+  EXPECT_EQ(filterForegroundEdges(scan, params).removed, 0u);
+}
+
 TEST(RangeGate, KeepsTheBand) {
   RangeScan scan = frontalScan();
   for (int c = 0; c < 80; ++c)
@@ -155,6 +188,64 @@ TEST(SupportPlane, PlaneAndBoxLosesItsPlane) {
   const PlaneRemovalReport report2 = removeSupportPlane(again, crop, {});
   EXPECT_EQ(report2.plane, report.plane);
   EXPECT_EQ(again.points, scan.points);
+}
+
+// The same scene in a frame whose +y is up (a model's frame, as the real
+// recording's bun_zipper frame): with that up the table goes and the box
+// stays; the filter must not look for the table along z.
+TEST(SupportPlane, PlaneAlongTheGivenUp) {
+  const Eigen::Isometry3d z_to_y(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()));
+  const Eigen::Isometry3d to_z_up = z_to_y.inverse();
+  RangeScan scan = blankScan(160, 120, 150.0,
+                             z_to_y * lookAt(Eigen::Vector3d(0.45, 0.2, 0.35), Eigen::Vector3d(0, 0, 0.03)));
+  castRays(scan, [&](const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+    return planeAndBox(to_z_up * o, to_z_up.linear() * d);
+  });
+  Eigen::AlignedBox3d crop;
+  const Eigen::AlignedBox3d z_up_crop(Eigen::Vector3d(-0.15, -0.15, -0.02), Eigen::Vector3d(0.15, 0.15, 0.2));
+  for (int c = 0; c < 8; ++c) crop.extend(z_to_y * z_up_crop.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+  filterCropBox(scan, crop);
+  std::size_t box_points = 0;
+  for (const auto& p : scan.points) box_points += p.y() > 1e-6;
+  PlaneRemovalParameters params;
+  params.up = Eigen::Vector3d::UnitY();
+  params.band = 0.5 * crop.sizes().y();
+  const PlaneRemovalReport report = removeSupportPlane(scan, crop, params);
+  ASSERT_TRUE(report.found);
+  EXPECT_NEAR(report.plane[1], 1.0, 1e-4);
+  EXPECT_NEAR(report.plane[3], 0.0, 5e-4);
+  for (const auto& p : scan.points) EXPECT_GT(p.y(), 0.003);
+  EXPECT_GT(static_cast<double>(scan.points.size()), 0.9 * static_cast<double>(box_points));
+}
+
+// The box alone (no table in view): its lowest 4 mm of sides fit a
+// horizontal plane, but they face sideways, not up: nothing is removed.
+// (Its top, were it inside the band, would face up: a known limit.)
+TEST(SupportPlane, AnObjectOnNothingKeepsItsBottom) {
+  RangeScan scan = blankScan(320, 240, 300.0, lookAt(Eigen::Vector3d(0.3, 0.15, 0.2), Eigen::Vector3d(0, 0, 0.03)));
+  castRays(scan, [](const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+    const Eigen::Vector3d lo(-0.05, -0.05, 0.0), hi(0.05, 0.05, 0.08);
+    double t0 = 0, t1 = 1e9;
+    for (int a = 0; a < 3; ++a) {
+      const double inv = 1.0 / d[a];
+      double ta = (lo[a] - o[a]) * inv, tb = (hi[a] - o[a]) * inv;
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    return t0 <= t1 && t0 > 0 ? t0 : -1.0;
+  });
+  const Eigen::AlignedBox3d crop(Eigen::Vector3d(-0.15, -0.15, -0.02), Eigen::Vector3d(0.15, 0.15, 0.2));
+  filterCropBox(scan, crop);
+  std::size_t lowest = 0;
+  for (const auto& p : scan.points) lowest += p.z() < 0.004;
+  ASSERT_GT(lowest, 200u);  // enough for a plane of the old rule
+  PlaneRemovalParameters params;
+  params.band = 0.05;  // up to z = 0.03: the sides' lower part, not the top
+  const std::size_t before = scan.points.size();
+  const PlaneRemovalReport report = removeSupportPlane(scan, crop, params);
+  EXPECT_FALSE(report.found);
+  EXPECT_EQ(scan.points.size(), before);
 }
 
 TEST(SupportPlane, NoPlaneNoRemoval) {

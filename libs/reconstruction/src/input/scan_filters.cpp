@@ -4,9 +4,13 @@
 
 #include <icrkit/reconstruction/input/scan_filters.hpp>
 
+#include <icrkit/core/kd_tree.hpp>
+
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -76,6 +80,58 @@ FilterReport filterJumpEdges(RangeScan& scan, const JumpEdgeParameters& params) 
   return apply(scan, reject, before);
 }
 
+FilterReport filterForegroundEdges(RangeScan& scan, const ForegroundEdgeParameters& params) {
+  const std::size_t before = scan.validPixels();
+  std::vector<std::uint8_t> reject(scan.range.size(), 0);
+  if (params.pixels <= 0) return apply(scan, reject, before);
+  const int w = scan.width, h = scan.height, k = params.pixels;
+  // Pixels without a range, labelled by the size of their 4-connected gap.
+  std::vector<std::uint8_t> wide_gap(scan.range.size(), 0);
+  {
+    std::vector<std::uint8_t> seen(scan.range.size(), 0);
+    std::vector<std::size_t> gap, stack;
+    for (std::size_t start = 0; start < scan.range.size(); ++start) {
+      if (seen[start] || scan.range[start] > 0.0f) continue;
+      gap.clear();
+      stack.assign(1, start);
+      seen[start] = 1;
+      while (!stack.empty()) {
+        const std::size_t i = stack.back();
+        stack.pop_back();
+        gap.push_back(i);
+        const int r = static_cast<int>(i / static_cast<std::size_t>(w)), c = static_cast<int>(i % static_cast<std::size_t>(w));
+        const int next[4][2] = {{r - 1, c}, {r + 1, c}, {r, c - 1}, {r, c + 1}};
+        for (const auto& n : next) {
+          if (n[0] < 0 || n[0] >= h || n[1] < 0 || n[1] >= w) continue;
+          const std::size_t j = static_cast<std::size_t>(n[0]) * w + n[1];
+          if (seen[j] || scan.range[j] > 0.0f) continue;
+          seen[j] = 1;
+          stack.push_back(j);
+        }
+      }
+      if (gap.size() >= params.min_gap_pixels)
+        for (std::size_t i : gap) wide_gap[i] = 1;
+    }
+  }
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) {
+      const std::size_t i = static_cast<std::size_t>(r) * w + c;
+      const float range = scan.range[i];
+      if (!(range > 0.0f)) continue;
+      const double background = static_cast<double>(range) + params.min_jump;
+      for (int rr = std::max(0, r - k); rr <= std::min(h - 1, r + k) && !reject[i]; ++rr)
+        for (int cc = std::max(0, c - k); cc <= std::min(w - 1, c + k); ++cc) {
+          const std::size_t j = static_cast<std::size_t>(rr) * w + cc;
+          const float other = scan.range[j];
+          if (wide_gap[j] || (other > 0.0f && static_cast<double>(other) > background)) {
+            reject[i] = 1;
+            break;
+          }
+        }
+    }
+  return apply(scan, reject, before);
+}
+
 FilterReport filterRange(RangeScan& scan, const RangeGateParameters& params) {
   const std::size_t before = scan.validPixels();
   std::vector<std::uint8_t> reject(scan.range.size(), 0);
@@ -109,14 +165,51 @@ PlaneRemovalReport removeSupportPlane(RangeScan& scan, const Eigen::AlignedBox3d
   PlaneRemovalReport report;
   report.pixels_before = scan.validPixels();
   std::vector<std::size_t> candidates;
-  const double z_min = box.min().z(), z_max = box.min().z() + params.band;
+  const Eigen::Vector3d up = params.up.normalized();
+  double lowest = std::numeric_limits<double>::infinity();
+  for (int corner = 0; corner < 8; ++corner)
+    lowest = std::min(lowest, up.dot(box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner))));
+  const double highest = lowest + params.band;
   for (std::size_t k = 0; k < scan.points.size(); ++k) {
     const Eigen::Vector3d& q = scan.points[k];
-    if (q.z() >= z_min && q.z() <= z_max && q.x() >= box.min().x() && q.x() <= box.max().x() &&
-        q.y() >= box.min().y() && q.y() <= box.max().y())
-      candidates.push_back(k);
+    const double height = up.dot(q);
+    if (height >= lowest && height <= highest && box.contains(q)) candidates.push_back(k);
   }
   if (candidates.size() < std::max<std::size_t>(3, params.min_inliers)) return report;
+
+  // Every candidate's neighbourhood, but the normals of an even stride only
+  // (a table can hold 100k points): the samples that face up are drawn from
+  // and counted.
+  std::vector<Eigen::Vector3d> band(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) band[k] = scan.points[candidates[k]];
+  const KdTree tree(band);
+  const std::size_t stride = std::max<std::size_t>(1, (candidates.size() + params.normal_samples - 1) /
+                                                          std::max<std::size_t>(1, params.normal_samples));
+  const double cos_normal = std::cos(params.max_normal_angle);
+  const Eigen::Vector3d sensor = scan.sensor_pose.translation();
+  std::vector<Eigen::Vector3d> sample_points, sample_normals, other_points;
+  for (std::size_t k = 0; k < band.size(); k += stride) {
+    const std::vector<Neighbour> near = tree.nearest(band[k], params.normal_neighbours);
+    if (near.size() < 3) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Neighbour& n : near) mean += band[n.index];
+    mean /= static_cast<double>(near.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const Neighbour& n : near) cov += (band[n.index] - mean) * (band[n.index] - mean).transpose();
+    Eigen::Vector3d normal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0).normalized();
+    // Turned towards the sensor, only what faces up can be a support's top
+    // (an object's underside, seen from below, faces down).
+    if (normal.dot(sensor - band[k]) < 0) normal = -normal;
+    if (normal.dot(up) < cos_normal) {
+      other_points.push_back(band[k]);
+      continue;
+    }
+    sample_points.push_back(band[k]);
+    sample_normals.push_back(normal);
+  }
+  const double scale = static_cast<double>(stride);
+  if (sample_points.size() < 3 || scale * static_cast<double>(sample_points.size()) < double(params.min_inliers))
+    return report;
 
   // A fixed-seed engine and modulo draws: the same input gives the same
   // plane on every standard library (distributions are not portable).
@@ -125,22 +218,32 @@ PlaneRemovalReport removeSupportPlane(RangeScan& scan, const Eigen::AlignedBox3d
   Eigen::Vector4d best = Eigen::Vector4d::Zero();
   std::size_t best_count = 0;
   for (int it = 0; it < params.iterations; ++it) {
-    const Eigen::Vector3d& a = scan.points[candidates[rng() % candidates.size()]];
-    const Eigen::Vector3d& b = scan.points[candidates[rng() % candidates.size()]];
-    const Eigen::Vector3d& c = scan.points[candidates[rng() % candidates.size()]];
+    const Eigen::Vector3d& a = sample_points[rng() % sample_points.size()];
+    const Eigen::Vector3d& b = sample_points[rng() % sample_points.size()];
+    const Eigen::Vector3d& c = sample_points[rng() % sample_points.size()];
     Eigen::Vector3d n = (b - a).cross(c - a);
     if (n.norm() < 1e-12) continue;
     n.normalize();
-    if (n.z() < 0) n = -n;
-    if (n.z() < cos_tilt) continue;
+    if (n.dot(up) < 0) n = -n;
+    if (n.dot(up) < cos_tilt) continue;
     const double d = -n.dot(a);
     std::size_t count = 0;
-    for (std::size_t k : candidates) count += std::abs(n.dot(scan.points[k]) + d) <= params.inlier_distance;
+    for (std::size_t k = 0; k < sample_points.size(); ++k)
+      count += std::abs(n.dot(sample_points[k]) + d) <= params.inlier_distance &&
+               n.dot(sample_normals[k]) >= cos_normal;
     if (count > best_count) {
       best_count = count;
       best << n, d;
     }
   }
+  // A support's top is mostly what faces up near it; an object's lowest
+  // slab, where a few patches face up, is mostly sides.
+  std::size_t sides = 0;
+  for (const Eigen::Vector3d& q : other_points)
+    sides += std::abs(best.head<3>().dot(q) + best[3]) <= params.inlier_distance;
+  if (static_cast<double>(best_count) < params.min_facing_share * static_cast<double>(best_count + sides))
+    return report;
+  best_count = static_cast<std::size_t>(scale * static_cast<double>(best_count));
   if (best_count < params.min_inliers) return report;
 
   // Least-squares refinement on the inliers (smallest eigenvector of the covariance).
@@ -162,7 +265,7 @@ PlaneRemovalReport removeSupportPlane(RangeScan& scan, const Eigen::AlignedBox3d
       }
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
     Eigen::Vector3d n = solver.eigenvectors().col(0).normalized();
-    if (n.z() < 0) n = -n;
+    if (n.dot(up) < 0) n = -n;
     best << n, -n.dot(mean);
     report.inliers = count;
   }

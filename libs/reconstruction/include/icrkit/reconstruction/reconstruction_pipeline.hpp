@@ -64,6 +64,7 @@ struct ReconstructionParameters {
   ConfidenceFilterParameters confidence;
   bool jump_edge_filter = true;
   JumpEdgeParameters jump_edges;
+  ForegroundEdgeParameters foreground_edges;
   RangeGateParameters range;
   /// The object's region (object frame, metres). Unset: a cube of
   /// `auto_crop_half_size` around the point closest to all the views'
@@ -71,9 +72,15 @@ struct ReconstructionParameters {
   std::optional<Eigen::AlignedBox3d> crop_box;
   double auto_crop_half_size = 0.15;
   /// Removes the table / support plate: the plane is searched among the
-  /// points of the box's lower half (band = half the box height).
+  /// points of the box's lower half along `up` (band = half the box's
+  /// extent along it); `support_plane.up` is replaced by `up`.
   bool remove_support_plane = true;
   PlaneRemovalParameters support_plane;
+  /// The object frame's up direction (unit). Unset: estimated from the
+  /// sensors' poses (estimateUpAxis: +z unless the views say otherwise,
+  /// then the frame's axis nearest their up). Set it when the views are
+  /// not upright (a handheld camera rolled about its axis).
+  std::optional<Eigen::Vector3d> up;
 
   /// false: keep the reported poses (no registration).
   bool register_scans = true;
@@ -162,6 +169,7 @@ struct ScanFilterRecord {
   std::size_t valid_pixels = 0;
   std::size_t removed_confidence = 0;
   std::size_t removed_jump_edges = 0;
+  std::size_t removed_foreground_edges = 0;
   std::size_t removed_range = 0;
   std::size_t removed_crop = 0;
   std::size_t removed_plane = 0;
@@ -196,6 +204,10 @@ struct ReconstructionResult {
   std::optional<DepthCamera> depth_camera;
   Eigen::AlignedBox3d crop_box;
   bool crop_box_automatic = false;
+  /// The object frame's up direction the support-plane filter used, and
+  /// whether it was estimated from the sensors' poses (else given).
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  bool up_automatic = false;
   double scan_spacing_m = 0.0;  ///< median point spacing of the first scan's object points
   std::vector<ScanFilterRecord> filters;
   SequenceRegistrationResult registration;  ///< empty when registration is off

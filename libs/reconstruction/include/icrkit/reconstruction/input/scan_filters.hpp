@@ -46,6 +46,26 @@ struct JumpEdgeParameters {
 /// evaluated on the unfiltered image, then applied at once.
 FilterReport filterJumpEdges(RangeScan& scan, const JumpEdgeParameters& params);
 
+struct ForegroundEdgeParameters {
+  /// Pixels taken off a surface's edge where it stands in front of the
+  /// background or of nothing (no return): a structured-light camera
+  /// spreads a foreground edge over the background by a pixel or two, a
+  /// ToF camera mixes it, and what the jump-edge test leaves of that lies
+  /// off the surface, worst on thin parts that are mostly edge (a bunny's
+  /// ears). 0 = off.
+  int pixels = 0;
+  /// A neighbour whose range exceeds the pixel's by more than this
+  /// (metres) is background; so is a pixel without a range in a gap of at
+  /// least `min_gap_pixels` (4-connected): the space around the object,
+  /// not a dropout inside a surface, which does not spread an edge.
+  double min_jump = 0.01;
+  std::size_t min_gap_pixels = 25;
+};
+/// Erodes every foreground edge of the range image by `pixels` (Chebyshev
+/// distance): evaluated on the unfiltered image, then applied at once.
+/// Pixels at the image border are not edges by the border alone.
+FilterReport filterForegroundEdges(RangeScan& scan, const ForegroundEdgeParameters& params);
+
 struct RangeGateParameters {
   /// Distance from the sensor along the pixel's ray (metres), whatever
   /// `range_is_depth` says. max <= 0: no upper limit.
@@ -58,13 +78,16 @@ FilterReport filterRange(RangeScan& scan, const RangeGateParameters& params);
 FilterReport filterCropBox(RangeScan& scan, const Eigen::AlignedBox3d& box);
 
 struct PlaneRemovalParameters {
-  /// Candidate points: object-frame z within this band (metres) above the
-  /// crop box's bottom, where the table or support plate lies. The plane is
-  /// fitted to these only, then applied to every point.
+  /// The object frame's up direction (unit): the object stands on the
+  /// plane's side it points to (input/up_axis.hpp estimates it).
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  /// Candidate points: height along `up` within this band (metres) above
+  /// the crop box's lowest corner, where the table or support plate lies.
+  /// The plane is fitted to these only, then applied to every point.
   double band = 0.03;
   /// Points closer than this to the plane (metres) are on it.
   double inlier_distance = 0.004;
-  /// Also remove points below the plane (the side away from +z): table
+  /// Also remove points below the plane (the side away from `up`): table
   /// edges, the plate's rim and the post under it.
   bool remove_below = true;
   /// RANSAC iterations and seed; the seed fixes the result.
@@ -72,16 +95,33 @@ struct PlaneRemovalParameters {
   std::uint64_t seed = 1;
   /// Fewer inliers than this: no plane is removed (the object alone in view).
   std::size_t min_inliers = 200;
-  /// The plane's normal must be within this angle of +z (radians).
+  /// The plane's normal must be within this angle of `up` (radians).
   double max_tilt = 0.35;
+  /// A support faces up: only candidates whose own normal (of their
+  /// `normal_neighbours` nearest candidates, turned towards the sensor) is
+  /// within `max_normal_angle` of `up` and of the plane's count as its
+  /// inliers. Without this the lowest slab of
+  /// an object that stands on nothing in view (the real recording's bunny:
+  /// no table in its views) fits a horizontal plane 4 mm thick, and the
+  /// object loses its bottom centimetre. At most `normal_samples` of the
+  /// candidates (an even stride) are tested; the inlier count is scaled.
+  double max_normal_angle = 0.7853981633974483;
+  std::size_t normal_neighbours = 24;
+  std::size_t normal_samples = 4000;
+  /// ... and they must be at least this share of the samples near the
+  /// plane: a few up-facing patches in an object's lowest slab (the tops of
+  /// a bunny's feet) do not make its sides a table.
+  double min_facing_share = 0.5;
 };
 struct PlaneRemovalReport : FilterReport {
   bool found = false;
-  Eigen::Vector4d plane = Eigen::Vector4d::Zero();  ///< n.x + d = 0, unit n with n.z > 0 (object frame)
+  Eigen::Vector4d plane = Eigen::Vector4d::Zero();  ///< n.x + d = 0, unit n with n.up > 0 (object frame)
   std::size_t inliers = 0;                          ///< in the band, after refinement
 };
-/// RANSAC plane fit near the bottom of `box` (object frame), least-squares
+/// RANSAC plane fit near the bottom of `box` along `up` (object frame), least-squares
 /// refinement on the inliers, removal of the plane (and what lies below).
+/// With no table in view, an object's own top facing up inside the band
+/// is taken for one (docs/reconstruction.md, "Known limits").
 PlaneRemovalReport removeSupportPlane(RangeScan& scan, const Eigen::AlignedBox3d& box,
                                       const PlaneRemovalParameters& params);
 

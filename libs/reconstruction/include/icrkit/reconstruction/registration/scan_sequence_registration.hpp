@@ -127,22 +127,25 @@ struct SequenceRegistrationParameters {
   /// spacing over this. <= 0: never scaled.
   double icp_spacing_reference = 0.0015;
   double icp_source_voxel_size = 0.0025;
+  /// ... and at most this many of them (an even stride): precision grows
+  /// with the square root of the count, the cost linearly.
+  std::size_t icp_max_source_points = 1200;
   /// Last: all views refined at once against each other's face-on points
   /// (joint_refinement.hpp). Its distances, kernel and cubes are scaled
-  /// with the ICP's for a sparser sensor. Off by default: on the issue-35
-  /// sweep's real views it takes the fused cloud from 0.86 to 0.71 mm (and
-  /// the Stanford scans from 0.23-0.39 to 0.14 mm), but on the real
-  /// recording's own reconstruction from its reported poses from 0.69 to
-  /// 0.81 mm (docs/reconstruction.md, "Joint refinement").
+  /// with the ICP's for a sparser sensor; each view is held to the graph's
+  /// pose by at most the robot's odometry sigmas (an arm's views stay put).
+  /// Off by default (`icrkit reconstruct --joint-refinement`): it brings
+  /// the fused surfaces of the nine simulated mobile-robot sets 0.03-1.6 mm
+  /// closer to the CAD and the real recording's registration from 0.79 to
+  /// 0.75 mm, but on clean synthetic views without robot information it
+  /// leaves the poses 0.3 mm from the truth where the pairs reach 0.05
+  /// (docs/reconstruction.md, "The object frame's up").
   bool joint_refinement = false;
   JointRefinementParameters joint;
   /// Window radius of the normals it matches along (metres): wider than
   /// the pairs' tangent planes, since the face-on test and the normal
   /// agreement read them too.
   double joint_normal_radius = 0.0035;
-  /// ... and at most this many of them (an even stride): precision grows
-  /// with the square root of the count, the cost linearly.
-  std::size_t icp_max_source_points = 1200;
   /// First round: the pairs start from the robot's poses, a centimetre or
   /// more apart. true: 3D-NDT on coarse cells brings them within the ICP's
   /// reach; false: the ICP starts with these wider pairing distances
