@@ -177,40 +177,6 @@ PlaneRemovalReport removeSupportPlane(RangeScan& scan, const Eigen::AlignedBox3d
   }
   if (candidates.size() < std::max<std::size_t>(3, params.min_inliers)) return report;
 
-  // Every candidate's neighbourhood, but the normals of an even stride only
-  // (a table can hold 100k points): the samples that face up are drawn from
-  // and counted.
-  std::vector<Eigen::Vector3d> band(candidates.size());
-  for (std::size_t k = 0; k < candidates.size(); ++k) band[k] = scan.points[candidates[k]];
-  const KdTree tree(band);
-  const std::size_t stride = std::max<std::size_t>(1, (candidates.size() + params.normal_samples - 1) /
-                                                          std::max<std::size_t>(1, params.normal_samples));
-  const double cos_normal = std::cos(params.max_normal_angle);
-  const Eigen::Vector3d sensor = scan.sensor_pose.translation();
-  std::vector<Eigen::Vector3d> sample_points, sample_normals, other_points;
-  for (std::size_t k = 0; k < band.size(); k += stride) {
-    const std::vector<Neighbour> near = tree.nearest(band[k], params.normal_neighbours);
-    if (near.size() < 3) continue;
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const Neighbour& n : near) mean += band[n.index];
-    mean /= static_cast<double>(near.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const Neighbour& n : near) cov += (band[n.index] - mean) * (band[n.index] - mean).transpose();
-    Eigen::Vector3d normal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0).normalized();
-    // Turned towards the sensor, only what faces up can be a support's top
-    // (an object's underside, seen from below, faces down).
-    if (normal.dot(sensor - band[k]) < 0) normal = -normal;
-    if (normal.dot(up) < cos_normal) {
-      other_points.push_back(band[k]);
-      continue;
-    }
-    sample_points.push_back(band[k]);
-    sample_normals.push_back(normal);
-  }
-  const double scale = static_cast<double>(stride);
-  if (sample_points.size() < 3 || scale * static_cast<double>(sample_points.size()) < double(params.min_inliers))
-    return report;
-
   // A fixed-seed engine and modulo draws: the same input gives the same
   // plane on every standard library (distributions are not portable).
   std::mt19937_64 rng(params.seed);
@@ -218,9 +184,9 @@ PlaneRemovalReport removeSupportPlane(RangeScan& scan, const Eigen::AlignedBox3d
   Eigen::Vector4d best = Eigen::Vector4d::Zero();
   std::size_t best_count = 0;
   for (int it = 0; it < params.iterations; ++it) {
-    const Eigen::Vector3d& a = sample_points[rng() % sample_points.size()];
-    const Eigen::Vector3d& b = sample_points[rng() % sample_points.size()];
-    const Eigen::Vector3d& c = sample_points[rng() % sample_points.size()];
+    const Eigen::Vector3d& a = scan.points[candidates[rng() % candidates.size()]];
+    const Eigen::Vector3d& b = scan.points[candidates[rng() % candidates.size()]];
+    const Eigen::Vector3d& c = scan.points[candidates[rng() % candidates.size()]];
     Eigen::Vector3d n = (b - a).cross(c - a);
     if (n.norm() < 1e-12) continue;
     n.normalize();
@@ -228,23 +194,47 @@ PlaneRemovalReport removeSupportPlane(RangeScan& scan, const Eigen::AlignedBox3d
     if (n.dot(up) < cos_tilt) continue;
     const double d = -n.dot(a);
     std::size_t count = 0;
-    for (std::size_t k = 0; k < sample_points.size(); ++k)
-      count += std::abs(n.dot(sample_points[k]) + d) <= params.inlier_distance &&
-               n.dot(sample_normals[k]) >= cos_normal;
+    for (std::size_t k : candidates) count += std::abs(n.dot(scan.points[k]) + d) <= params.inlier_distance;
     if (count > best_count) {
       best_count = count;
       best << n, d;
     }
   }
-  // A support's top is mostly what faces up near it; an object's lowest
-  // slab, where a few patches face up, is mostly sides.
-  std::size_t sides = 0;
-  for (const Eigen::Vector3d& q : other_points)
-    sides += std::abs(best.head<3>().dot(q) + best[3]) <= params.inlier_distance;
-  if (static_cast<double>(best_count) < params.min_facing_share * static_cast<double>(best_count + sides))
-    return report;
-  best_count = static_cast<std::size_t>(scale * static_cast<double>(best_count));
   if (best_count < params.min_inliers) return report;
+
+  // A support faces up. The candidates near the plane, an even stride of
+  // at most `normal_samples` of them, each get the normal of its nearest
+  // candidates (turned towards the sensor): enough of them must face up,
+  // and make most of those near the plane. An object's lowest slab of
+  // sides fits a horizontal plane 4 mm thick but faces sideways.
+  std::vector<Eigen::Vector3d> band(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) band[k] = scan.points[candidates[k]];
+  std::vector<std::size_t> near_plane;
+  for (std::size_t k = 0; k < band.size(); ++k)
+    if (std::abs(best.head<3>().dot(band[k]) + best[3]) <= params.inlier_distance) near_plane.push_back(k);
+  const KdTree tree(band);
+  const std::size_t stride = std::max<std::size_t>(1, (near_plane.size() + params.normal_samples - 1) /
+                                                          std::max<std::size_t>(1, params.normal_samples));
+  const double cos_normal = std::cos(params.max_normal_angle);
+  const Eigen::Vector3d sensor = scan.sensor_pose.translation();
+  std::size_t sampled = 0, facing = 0;
+  for (std::size_t s = 0; s < near_plane.size(); s += stride) {
+    const Eigen::Vector3d& q = band[near_plane[s]];
+    const std::vector<Neighbour> near = tree.nearest(q, params.normal_neighbours);
+    ++sampled;
+    if (near.size() < 3) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Neighbour& n : near) mean += band[n.index];
+    mean /= static_cast<double>(near.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const Neighbour& n : near) cov += (band[n.index] - mean) * (band[n.index] - mean).transpose();
+    Eigen::Vector3d normal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0).normalized();
+    if (normal.dot(sensor - q) < 0) normal = -normal;
+    facing += normal.dot(best.head<3>()) >= cos_normal && normal.dot(up) >= cos_normal;
+  }
+  if (static_cast<double>(facing) < params.min_facing_share * static_cast<double>(sampled) ||
+      static_cast<double>(facing * stride) < static_cast<double>(params.min_inliers))
+    return report;
 
   // Least-squares refinement on the inliers (smallest eigenvector of the covariance).
   for (int round = 0; round < 2; ++round) {

@@ -97,14 +97,14 @@ struct PlaneRemovalParameters {
   std::size_t min_inliers = 200;
   /// The plane's normal must be within this angle of `up` (radians).
   double max_tilt = 0.35;
-  /// A support faces up: only candidates whose own normal (of their
-  /// `normal_neighbours` nearest candidates, turned towards the sensor) is
-  /// within `max_normal_angle` of `up` and of the plane's count as its
-  /// inliers. Without this the lowest slab of
-  /// an object that stands on nothing in view (the real recording's bunny:
-  /// no table in its views) fits a horizontal plane 4 mm thick, and the
-  /// object loses its bottom centimetre. At most `normal_samples` of the
-  /// candidates (an even stride) are tested; the inlier count is scaled.
+  /// A support faces up: the plane RANSAC found is kept only when the
+  /// candidates near it whose own normal (of their `normal_neighbours`
+  /// nearest candidates, turned towards the sensor) is within
+  /// `max_normal_angle` of `up` and of the plane number `min_inliers` (at
+  /// most `normal_samples` of them tested, an even stride, the count
+  /// scaled). Without this the lowest slab of an object that stands on
+  /// nothing in view (the real recording's bunny) fits a horizontal plane
+  /// 4 mm thick, and the object loses its bottom centimetre.
   double max_normal_angle = 0.7853981633974483;
   std::size_t normal_neighbours = 24;
   std::size_t normal_samples = 4000;
