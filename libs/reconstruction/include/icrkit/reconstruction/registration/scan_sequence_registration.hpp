@@ -170,9 +170,12 @@ struct SequenceRegistrationParameters {
   /// mobile robot: 5-8 mm and 1-2 deg per view, tens of millimetres at the
   /// object) the others' union is blurred but centred where the object is,
   /// and it covers every side a view shows, which a single partner does
-  /// not; a few levels bring every view within the pairs' reach. Empty: the
-  /// pairs start from the reported poses.
-  std::vector<double> model_alignment_resolutions{0.04, 0.02, 0.01};
+  /// not; a few levels bring every view within the pairs' reach. The first
+  /// level's 6 cm cells reach views 40-55 mm off at the object (a real
+  /// recording at 8 mm / 2 deg per view), which 4 cm cells left where the
+  /// robot put them (docs/reconstruction.md, "A 6 cm first level"). Empty:
+  /// the pairs start from the reported poses.
+  std::vector<double> model_alignment_resolutions{0.06, 0.04, 0.02, 0.01};
   /// A view the first level could not place is tried again from its pose
   /// turned by this angle (radians) about the camera's y and z axes (MRPT
   /// axes: across the line of sight), the 8 combinations, the best score
