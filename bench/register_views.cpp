@@ -31,7 +31,7 @@ using namespace icrkit;
 
 int main(int argc, char** argv) {
   if (argc < 4 || std::string(argv[2]) != "-o") {
-    std::fprintf(stderr, "usage: %s VIEWS_DIR -o POSES.txt [--no-model-alignment] [--set NAME=VALUE]... (e.g. --set joint=1: the joint refinement)\n", argv[0]);
+    std::fprintf(stderr, "usage: %s VIEWS_DIR -o POSES.txt [--no-model-alignment] [--set NAME=VALUE]... (e.g. --set joint=0: without the joint refinement)\n", argv[0]);
     return 2;
   }
   try {
@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
       else if (name == "joint_incidence") r.joint.target_max_incidence = value;
       else if (name == "joint_iterations") r.joint.iterations = int(value);
       else if (name == "joint_normal_radius") r.joint_normal_radius = value;
+      else if (name == "joint_min_linked_pair_ratio") r.joint_min_linked_pair_ratio = value;
       else throw InputError(name, "", "not a parameter this tool sets");
     }
     const auto start = std::chrono::steady_clock::now();
@@ -107,6 +108,10 @@ int main(int argc, char** argv) {
                                 {"pairs_accepted", accepted},
                                 {"joint_iterations", result.joint_iterations},
                                 {"joint_pairs", result.joint_pairs},
+                                {"joint_linked_view_pairs", result.joint_linked_view_pairs},
+                                {"joint_graph_view_pairs", result.joint_graph_view_pairs},
+                                {"joint_applied", result.joint_applied},
+                                {"joint_rejection", result.joint_rejection},
                                 {"pairs_rejected", result.pairs.size() - accepted},
                                 {"model_alignment_accepted", result.model_alignment_accepted},
                                 {"model_alignment_median_move_m", result.model_alignment_median_move_m},

@@ -9,7 +9,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/cli_common.sh"
 
 expect_exit 0 "$ICRKIT" reconstruct --help
 for option in --poses --gt-poses --crop --no-registration --voxel --smoothing-radius --board-square --board-origin \
-  --intrinsics --depth-scale --camera --max-time-difference --rotation-tolerance; do
+  --intrinsics --depth-scale --camera --max-time-difference --rotation-tolerance --no-joint-refinement; do
   grep -q -- "$option" "$work/out" || fail "reconstruct --help lacks $option"
 done
 expect_exit 0 "$ICRKIT" --help
@@ -42,6 +42,8 @@ assert d['registration']['model_alignment']['views_kept'][-1] >= 6, d['registrat
 e = d['registration_error']['registered']['aligned']
 assert e['median_sensor_translation_mm'] <= 1.0 and e['median_rotation_deg'] <= 0.3, e
 assert d['registration']['pose_graph']['converged'], d['registration']
+j = d['registration']['joint_refinement']
+assert j['enabled'] and j['iterations'] > 0 and j['applied'] == (j['rejection'] == ''), j
 for k in ('read', 'filters', 'registration', 'fusion', 'raw_mesh', 'smoothing', 'filtered_mesh', 'total'):
     assert d['time_ms'][k] >= 0, k
 poses = [l.split() for l in open('$work/rec/poses.txt') if l.strip() and not l.startswith('#')]
@@ -106,6 +108,8 @@ expect_input_error "--no-registration" "$ICRKIT" reconstruct "$work/cup/scans.ra
   --board-square 0.02 --no-registration
 expect_input_error "--register-as-scans-arrive" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad13" \
   --register-as-scans-arrive --no-registration
+expect_input_error "--joint-refinement" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad14" \
+  --joint-refinement --no-joint-refinement
 expect_input_error "missing.rawlog" "$ICRKIT" reconstruct "$work/missing.rawlog" -o "$work/bad1"
 expect_input_error "--window-normal-angle" "$ICRKIT" reconstruct "$work/cup/scans.rawlog" -o "$work/bad12" \
   --window-normal-angle 0

@@ -85,9 +85,11 @@ void addReconstructOptions(CLI::App& command, ReconstructOptions& options) {
   command.add_flag("--scan-to-model", options.scan_to_model,
                    "Register each scan against the scans before it first (the paper's sequential pass; slower, "
                    "rarely better: docs/reconstruction.md)");
+  command.add_flag("--no-joint-refinement", options.no_joint_refinement,
+                   "Keep the pose graph's poses: skip the last step, which refines all views at once against each "
+                   "other's face-on points (docs/reconstruction.md, \"The joint refinement by default\")");
   command.add_flag("--joint-refinement", options.joint_refinement,
-                   "Last, refine all views at once against each other's face-on points (off by default: better "
-                   "surfaces on the real recordings, worse poses on the simulated ones; docs/reconstruction.md)");
+                   "The default (kept for scripts of earlier versions)");
   command.add_flag("--register-as-scans-arrive", options.incremental_registration,
                    "Register each scan with the earlier ones as it is read (what a stream does to be ready soon "
                    "after its last frame) instead of all views together at the end: docs/reconstruction.md, \"Streaming\"");
@@ -175,7 +177,9 @@ reconstruction::ReconstructionParameters reconstructionParameters(const Reconstr
   params.register_scans = !options.no_registration;
   params.registration.scan_to_model = options.scan_to_model;
   params.registration.incremental = options.incremental_registration;
-  params.registration.joint_refinement = options.joint_refinement;
+  if (options.joint_refinement && options.no_joint_refinement)
+    throw InputError("--joint-refinement", "", "one of --joint-refinement and --no-joint-refinement");
+  params.registration.joint_refinement = !options.no_joint_refinement;
   if (options.joint_refinement && options.no_registration)
     throw InputError("--joint-refinement", "", "needs registration (drop --no-registration)");
   params.keep_registration_input = !options.write_registration_input.empty();

@@ -33,6 +33,7 @@ struct ReconstructOptions {
   bool scan_to_model = false;
   bool incremental_registration = false;
   bool joint_refinement = false;
+  bool no_joint_refinement = false;
   std::string write_registration_input;
   bool no_jump_edges = false;
   int edge_erosion = 0;

@@ -123,7 +123,7 @@ void bindReconstructor(py::module_& m) {
                               "optical axes (x right, y down, z forward: ROS, TUM, OpenCV).")
       .def(py::init([](std::optional<std::vector<double>> crop_box, double auto_crop_half_size, bool register_scans,
                        const std::string& smoothing, bool meshes, bool raw_mesh, bool register_as_scans_arrive,
-                       std::optional<std::vector<double>> up) {
+                       std::optional<std::vector<double>> up, bool joint_refinement) {
              reconstruction::ReconstructionParameters params;
              if (crop_box) {
                if (crop_box->size() != 6)
@@ -141,6 +141,7 @@ void bindReconstructor(py::module_& m) {
              }
              params.register_scans = register_scans;
              params.registration.incremental = register_as_scans_arrive;
+             params.registration.joint_refinement = joint_refinement;
              if (smoothing == "paper")
                params.smoothing.max_normal_angle = M_PI;
              else if (smoothing != "feature")
@@ -151,7 +152,7 @@ void bindReconstructor(py::module_& m) {
            }),
            py::arg("crop_box") = py::none(), py::arg("auto_crop_half_size") = 0.15, py::arg("register") = true,
            py::arg("smoothing") = "feature", py::arg("meshes") = true, py::arg("raw_mesh") = true,
-           py::arg("register_as_scans_arrive") = false, py::arg("up") = py::none(),
+           py::arg("register_as_scans_arrive") = false, py::arg("up") = py::none(), py::arg("joint_refinement") = true,
            "`crop_box`: the object's region (object frame, metres); None: a cube of 2 x auto_crop_half_size where "
            "the views' optical axes meet. `register`: false keeps the given poses. `smoothing`: 'feature' "
            "(one-sided windows, the default of `icrkit reconstruct`) or 'paper' (Algorithm 1 as published). "
@@ -161,7 +162,7 @@ void bindReconstructor(py::module_& m) {
            "graph, fuse and mesh; the result then differs from `icrkit reconstruct` without "
            "--register-as-scans-arrive (docs/reconstruction.md, \"Streaming\"). `up`: the object frame's up "
            "direction, where the support plane is searched; None: estimated from the poses (`icrkit reconstruct "
-           "--up`).")
+           "--up`). `joint_refinement`: false keeps the pose graph's poses (`icrkit reconstruct --no-joint-refinement`).")
       .def(
           "add_depth",
           [](PyReconstructor& self, const py::array& depth, const std::vector<double>& intrinsics,

@@ -237,6 +237,39 @@ TEST(RawlogReader, AbsurdRangeImageSizeIsRefusedBeforeMrptAllocatesIt) {
   fs::remove_all(scratch);
 }
 
+TEST(RawlogReader, AbsurdCameraNameLengthIsRefusedBeforeMrptAllocatesIt) {
+  // A camera's intrinsics end with its name; MRPT sizes the string from its
+  // stored length before reading it. The rawlog fuzz target found a 2 MB
+  // file whose corrupt length asked for 3.6 GB. The reader refuses it.
+  const std::string dir = simulatedRecording(3, false);
+  const fs::path scratch = scratchFolder("absurd_name");
+  const auto reference = loadWithMrpt(dir + "/scans.rawlog");
+  std::string bytes = plainRawlogBytes(reference, (scratch / "whole.rawlog").string());
+  const std::string& name = reference[1]->cameraParams.cameraName;
+  ASSERT_FALSE(name.empty());
+  std::string pattern;
+  for (int k = 0; k < 4; ++k) pattern.push_back(static_cast<char>((name.size() >> (8 * k)) & 0xFF));
+  pattern += name;
+  // The first scan's two cameras (depth, intensity), then the second's.
+  std::size_t at = std::string::npos;
+  for (int occurrence = 0, from = 0; occurrence < 3; ++occurrence) {
+    at = bytes.find(pattern, static_cast<std::size_t>(from));
+    ASSERT_NE(at, std::string::npos) << occurrence;
+    from = static_cast<int>(at + 1);
+  }
+  bytes.replace(at, 4, std::string("\x08\x02\x01\xD9", 4));
+  const std::string path = (scratch / "absurd.rawlog").string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  std::size_t complete = 0;
+  const InputError e = expectInputError([&] {
+    RawlogReader reader(path);
+    while (reader.next()) ++complete;
+  });
+  EXPECT_EQ(complete, 1u);
+  EXPECT_NE(std::string(e.what()).find("a camera name of"), std::string::npos) << e.what();
+  fs::remove_all(scratch);
+}
+
 TEST(RawlogReader, MissingAndEmptyFiles) {
   const fs::path scratch = scratchFolder("missing");
   const std::string missing = (scratch / "nope.rawlog").string();

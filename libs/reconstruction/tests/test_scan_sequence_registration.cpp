@@ -167,6 +167,14 @@ TEST(SequenceRegistration, RecoversPerturbedPosesOfPartialViews) {
   // Each reported pose has its own error: relative motions are no better.
   params.odometry_sigma_translation = params.odometry_sigma_rotation = 0;
   const SequenceRegistrationResult result = registerScanSequence(scans, reported, params);
+  // The joint refinement's face-on points (seen within 18 deg of their
+  // normal) are few here: the cameras look down 27 deg onto a block toy,
+  // so no side face is face-on. They linked 16 pairs of views where the
+  // graph has 26, and moved the views 0.32 mm (median) from the truth, so
+  // the graph's poses stand.
+  EXPECT_FALSE(result.joint_applied);
+  EXPECT_FALSE(result.joint_rejection.empty());
+  std::printf("joint refinement: %s\n", result.joint_rejection.c_str());
   ASSERT_EQ(result.poses.size(), scans.size());
   EXPECT_TRUE(result.loop_closure.accepted) << result.loop_closure.rejection;
   EXPECT_TRUE(result.graph.converged);
@@ -314,6 +322,13 @@ TEST(SequenceRegistrationRealData, TenBunnyScansFromPerturbedPoses) {
   // No priors and no odometry: the pairs alone hold the scans, from up to
   // 5 deg off; the sequential pass starts them within reach.
   params.scan_to_model = true;
+  // The scans are stored in the scanner's frame with the bunny at its
+  // origin, not in their sensor's frame: the joint refinement's face-on
+  // test (and its normals' orientation) needs the sensor there. The
+  // registration sweep places them in sensor frames (bench/
+  // registration_sweep.py), where the step brings their fused cloud from
+  // 0.23-0.39 to 0.14 mm from bun_zipper.
+  params.joint_refinement = false;
   const SequenceRegistrationResult result = registerScanSequence(scans, perturbed, params);
   double worst_t = 0, worst_r = 0;
   for (std::size_t i = 0; i < scans.size(); ++i) {

@@ -15,7 +15,12 @@ std::string header(const std::string& name) { return std::string(1, char(0x80 | 
 const std::string kScanHeaders[] = {header("mrpt::obs::CObservation3DRangeScan"), header("CObservation3DRangeScan")};
 const std::string kMatrixHeaders[] = {header("mrpt::math::CMatrixF"), header("mrpt::math::CMatrixD"),
                                       header("CMatrixF"), header("CMatrixD")};
+const std::string kCameraHeaders[] = {header("mrpt::img::TCamera"), header("TCamera")};
 const std::string kPoseNames[] = {"mrpt::poses::CPose3D", "CPose3D"};
+// TCamera (versions 4-6) before its name: the focal length, eight
+// distortion coefficients and fx, fy, cx, cy (doubles), rows and columns
+// (uint32).
+constexpr std::size_t kCameraFieldBytes = 8 + 8 * 8 + 4 * 8 + 2 * 4;
 constexpr std::uint8_t kEndOfObject = 0x88;
 
 // CPose3D's stored size per version: 2, seven doubles (position and
@@ -72,7 +77,7 @@ void RawlogSizeGuard::idleByte(std::uint8_t byte) {
   recent_[recent_count_ % recent_.size()] = byte;
   ++recent_count_;
   // Cheap first test: the last letter of one of the class names.
-  if (byte != 'n' && byte != 'F' && byte != 'D') return;
+  if (byte != 'n' && byte != 'F' && byte != 'D' && byte != 'a') return;
   auto endsWith = [&](const std::string& header) {
     if (recent_count_ < header.size()) return false;
     for (std::size_t k = 0; k < header.size(); ++k) {
@@ -84,6 +89,9 @@ void RawlogSizeGuard::idleByte(std::uint8_t byte) {
   if (byte == 'n') {
     for (const std::string& h : kScanHeaders)
       if (endsWith(h)) state_ = State::ScanVersion;
+  } else if (byte == 'a') {
+    for (const std::string& h : kCameraHeaders)
+      if (endsWith(h)) state_ = State::CameraVersion;
   } else {
     for (const std::string& h : kMatrixHeaders)
       if (endsWith(h)) state_ = State::MatrixVersion;
@@ -210,6 +218,31 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
         state_ = *data == 0 ? State::MatrixRows : State::Idle;
         ++data;
         --n;
+        break;
+      case State::CameraVersion:
+        // The name is stored from version 5 on.
+        state_ = *data >= 5 && *data <= 6 ? State::CameraFields : State::Idle;
+        skip_ = kCameraFieldBytes;
+        ++data;
+        --n;
+        break;
+      case State::CameraFields: {
+        const std::uint64_t take = std::min<std::uint64_t>(skip_, n);
+        data += take;
+        n -= static_cast<std::size_t>(take);
+        skip_ -= take;
+        if (skip_ == 0) state_ = State::CameraNameLength;
+        break;
+      }
+      case State::CameraNameLength:
+        if (collect(data, n, 4)) {
+          const std::uint32_t length = fieldU32();
+          field_.clear();
+          state_ = State::Idle;
+          if (length > kMaxCameraName)
+            refuse("a camera name of " + std::to_string(length) + " bytes (at most " +
+                   std::to_string(kMaxCameraName) + " accepted)");
+        }
         break;
     }
   }

@@ -8,8 +8,12 @@
 // bytes as MRPT reads them: on the object headers of those classes it
 // follows their layout (MRPT 2.5's, versions 8-10 of the range scan)
 // to the sizes and refuses, by throwing before MRPT gets them, a range
-// image or matrix beyond `max_elements` or a point count beyond it. It
-// changes no byte; layouts it does not know it leaves to MRPT.
+// image or matrix beyond `max_elements` or a point count beyond it. A
+// camera's intrinsics (TCamera, versions 5-6) end with its name, a string
+// MRPT sizes from its stored length before reading it (a corrupt length:
+// gigabytes for a 2 MB file, found by the fuzz target): refused beyond
+// `kMaxCameraName` bytes. It changes no byte; layouts it does not know it
+// leaves to MRPT.
 
 #include <mrpt/io/CStream.h>
 
@@ -22,6 +26,9 @@ namespace icrkit::reconstruction {
 
 class RawlogSizeGuard : public mrpt::io::CStream {
  public:
+  /// A camera name longer than this (bytes) is corrupt.
+  static constexpr std::uint32_t kMaxCameraName = 4096;
+
   RawlogSizeGuard(mrpt::io::CStream& inner, std::uint64_t max_elements);
 
   size_t Read(void* buffer, size_t count) override;
@@ -52,7 +59,10 @@ class RawlogSizeGuard : public mrpt::io::CStream {
     ScanCols,         // uint32: refused here when too large
     MatrixVersion,    // CMatrixF / CMatrixD
     MatrixRows,
-    MatrixCols
+    MatrixCols,
+    CameraVersion,    // TCamera
+    CameraFields,     // skipped: focal length, distortion, intrinsics, size
+    CameraNameLength  // uint32: refused here when too large
   };
 
   void consume(const std::uint8_t* data, std::size_t n);

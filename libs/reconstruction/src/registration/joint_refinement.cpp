@@ -62,6 +62,7 @@ struct ViewEquations {
   std::map<std::size_t, Vector6d> gradient;
   double weighted_sq = 0.0, weight = 0.0;
   std::size_t pairs = 0;
+  std::vector<std::size_t> partners;  // views j with correspondences
 };
 
 Eigen::Isometry3d worldStep(const Vector6d& x, const Eigen::Vector3d& centre) {
@@ -223,6 +224,7 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
         eq.weighted_sq += sq;
         eq.weight += wsum;
         ++eq.pairs;
+        eq.partners.push_back(j);
       }
     });
 
@@ -231,6 +233,12 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
     Eigen::VectorXd g = Eigen::VectorXd::Zero(6 * n);
     double sq = 0.0, wsum = 0.0;
     std::size_t pairs = 0;
+    std::vector<std::pair<std::size_t, std::size_t>> linked;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j : per_view[i].partners) linked.emplace_back(std::min(i, j), std::max(i, j));
+    std::sort(linked.begin(), linked.end());
+    result.linked_view_pairs =
+        static_cast<std::size_t>(std::unique(linked.begin(), linked.end()) - linked.begin());
     for (const ViewEquations& eq : per_view) {
       for (const auto& [ab, m] : eq.blocks)
         h.block<6, 6>(6 * static_cast<Eigen::Index>(ab.first), 6 * static_cast<Eigen::Index>(ab.second)) += m;

@@ -178,6 +178,8 @@ void SequenceRegistrationParameters::validate() const {
   positive(p.registration_sigma_translation, "registration_sigma_translation");
   positive(p.registration_sigma_rotation, "registration_sigma_rotation");
   if (!std::isfinite(p.min_normalized_score)) throw InputError("min_normalized_score", "", "expected a number");
+  if (!(p.joint_min_linked_pair_ratio >= 0) || !std::isfinite(p.joint_min_linked_pair_ratio))
+    throw InputError("joint_min_linked_pair_ratio", "", "expected a number >= 0");
   if ((p.prior_sigma_translation > 0) != (p.prior_sigma_rotation > 0))
     throw InputError("prior_sigma_translation / prior_sigma_rotation", "", "set both (> 0) or neither");
   if (p.ndt.resolutions.empty()) throw InputError("ndt.resolutions", "", "expected at least one resolution");
@@ -1160,10 +1162,30 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       if (normals[i].size() == s.reduced[i].size()) points[i] = s.reduced[i];
       else normals[i].clear();
     const JointRefinementResult refined = refineJointly(points, normals, poses, joint);
-    poses = refined.poses;
     result.joint_iterations = refined.iterations;
     result.joint_pairs = refined.pairs;
     result.joint_rms_m = refined.rms_m;
+    result.joint_linked_view_pairs = refined.linked_view_pairs;
+    // The graph's pairs of its last round, each once.
+    int last_round = 0;
+    for (const PairRegistrationRecord& pair : result.pairs) last_round = std::max(last_round, pair.round);
+    std::vector<std::pair<std::size_t, std::size_t>> graph_pairs;
+    for (const PairRegistrationRecord& pair : result.pairs)
+      if (pair.accepted && pair.round == last_round)
+        graph_pairs.emplace_back(std::min(pair.from, pair.to), std::max(pair.from, pair.to));
+    std::sort(graph_pairs.begin(), graph_pairs.end());
+    graph_pairs.erase(std::unique(graph_pairs.begin(), graph_pairs.end()), graph_pairs.end());
+    result.joint_graph_view_pairs = graph_pairs.size();
+    const double needed = params.joint_min_linked_pair_ratio * double(graph_pairs.size());
+    if (refined.iterations == 0) {
+      result.joint_rejection = "no view has points to match";
+    } else if (double(refined.linked_view_pairs) < needed) {
+      result.joint_rejection = "its face-on points linked " + std::to_string(refined.linked_view_pairs) +
+                               " pairs of views, the graph " + std::to_string(graph_pairs.size());
+    } else {
+      poses = refined.poses;
+      result.joint_applied = true;
+    }
   }
   result.poses = poses;
 

@@ -66,8 +66,10 @@ struct JointRefinementParameters {
 struct JointRefinementResult {
   std::vector<Eigen::Isometry3d> poses;
   int iterations = 0;
-  /// Pairs of views with correspondences in the last iteration.
+  /// Pairs of views with correspondences in the last iteration: ordered
+  /// (view i's sources against view j's targets), and unordered.
   std::size_t pairs = 0;
+  std::size_t linked_view_pairs = 0;
   /// Weighted RMS point-to-plane residual of the last iteration (metres).
   double rms_m = 0.0;
 };
