@@ -43,6 +43,9 @@ def test_frames_from_memory_give_the_folders_meshes():
     assert report["input_format"] == "memory"
     # bun_zipper's frame, +y up, read from the poses (the table filter looks along it).
     assert report["up"] == [0.0, 1.0, 0.0] and report["up_automatic"]
+    # The joint refinement, the registration's last step, is on and kept here.
+    joint = report["registration"]["joint_refinement"]
+    assert joint["enabled"] and joint["applied"] and joint["linked_view_pairs"] >= joint["graph_view_pairs"], joint
     with tempfile.TemporaryDirectory() as tmp:
         reconstructor.write(tmp)
         assert sorted(os.listdir(tmp)) == ["cloud.ply", "filtered.ply", "poses.txt", "raw.ply", "reconstruction.json"]
@@ -146,6 +149,21 @@ def test_without_the_raw_baseline_only_the_filtered_mesh_is_made():
     with tempfile.TemporaryDirectory() as tmp:
         filtered_only.write(tmp)
         assert "raw.ply" not in os.listdir(tmp) and "filtered.ply" in os.listdir(tmp)
+
+
+def test_without_the_joint_refinement_the_graphs_poses_stand():
+    frames = list(tum_frames())
+    default, graph_only = icrkit.Reconstructor(meshes=False), icrkit.Reconstructor(meshes=False, joint_refinement=False)
+    for stamp, depth, pose in frames:
+        default.add_depth(depth, INTRINSICS, pose, timestamp=stamp)
+        graph_only.add_depth(depth, INTRINSICS, pose, timestamp=stamp)
+    joint = graph_only.report()["registration"]["joint_refinement"]
+    assert not joint["enabled"] and not joint["applied"] and joint["iterations"] == 0, joint
+    # The step moves the views (tenths of a millimetre at the object).
+    centre = np.mean(default.cloud().points, axis=0)
+    moved = [np.linalg.norm((a @ np.linalg.inv(b) @ np.append(centre, 1.0))[:3] - centre)
+             for a, b in zip(default.poses(), graph_only.poses())]
+    assert 1e-5 < np.median(moved) < 5e-3, moved
 
 
 def test_registered_as_the_scans_arrive():

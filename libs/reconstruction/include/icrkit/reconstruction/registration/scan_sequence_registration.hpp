@@ -135,7 +135,8 @@ struct SequenceRegistrationParameters {
   /// with the ICP's for a sparser sensor; each view is held to the graph's
   /// pose by at most the robot's odometry sigmas (an arm's views stay put).
   /// On the real recording's views it brings the fused cloud from 0.90-1.01
-  /// to 0.74-0.76 mm from the reference in every seed and error class
+  /// to 0.74-0.76 mm from the reference (medians of the 3, 5 and 8 mm
+  /// classes; two 8 mm runs still fail)
   /// (docs/reconstruction.md, "The joint refinement by default"); false:
   /// the graph's poses (`icrkit reconstruct --no-joint-refinement`). It
   /// reads which points face the sensor, so each scan's points must be in
