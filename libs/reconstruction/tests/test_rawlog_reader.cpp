@@ -201,6 +201,21 @@ TEST(RawlogReader, TruncatedPlainFileNamesTheScanReached) {
   fs::remove_all(scratch);
 }
 
+// Writes `bytes` (a rawlog corrupted in its second scan) into `scratch`:
+// the reader gives the first scan, then an InputError saying `refusal`.
+void expectRefusedAfterOneScan(const std::string& bytes, const fs::path& scratch, const std::string& refusal) {
+  const std::string path = (scratch / "absurd.rawlog").string();
+  std::ofstream(path, std::ios::binary) << bytes;
+  std::size_t complete = 0;
+  const InputError e = expectInputError([&] {
+    RawlogReader reader(path);
+    while (reader.next()) ++complete;
+  });
+  EXPECT_EQ(complete, 1u);
+  EXPECT_NE(std::string(e.what()).find(refusal), std::string::npos) << e.what();
+  fs::remove_all(scratch);
+}
+
 TEST(RawlogReader, AbsurdRangeImageSizeIsRefusedBeforeMrptAllocatesIt) {
   // MRPT allocates rows x cols as soon as it has read them; for a corrupt
   // size its allocator returns null and it writes through it (a crash the
@@ -225,16 +240,7 @@ TEST(RawlogReader, AbsurdRangeImageSizeIsRefusedBeforeMrptAllocatesIt) {
   const std::size_t at = found + 5;
   const std::string huge = "\x12\x34\x56\xF0\x01\x00\x00\x80";
   bytes.replace(at, 8, huge);
-  const std::string path = (scratch / "absurd.rawlog").string();
-  std::ofstream(path, std::ios::binary) << bytes;
-  std::size_t complete = 0;
-  const InputError e = expectInputError([&] {
-    RawlogReader reader(path);
-    while (reader.next()) ++complete;
-  });
-  EXPECT_EQ(complete, 1u);
-  EXPECT_NE(std::string(e.what()).find("a range image of"), std::string::npos) << e.what();
-  fs::remove_all(scratch);
+  expectRefusedAfterOneScan(bytes, scratch, "a range image of");
 }
 
 TEST(RawlogReader, AbsurdCameraNameLengthIsRefusedBeforeMrptAllocatesIt) {
@@ -258,16 +264,7 @@ TEST(RawlogReader, AbsurdCameraNameLengthIsRefusedBeforeMrptAllocatesIt) {
     from = static_cast<int>(at + 1);
   }
   bytes.replace(at, 4, std::string("\x08\x02\x01\xD9", 4));
-  const std::string path = (scratch / "absurd.rawlog").string();
-  std::ofstream(path, std::ios::binary) << bytes;
-  std::size_t complete = 0;
-  const InputError e = expectInputError([&] {
-    RawlogReader reader(path);
-    while (reader.next()) ++complete;
-  });
-  EXPECT_EQ(complete, 1u);
-  EXPECT_NE(std::string(e.what()).find("a camera name of"), std::string::npos) << e.what();
-  fs::remove_all(scratch);
+  expectRefusedAfterOneScan(bytes, scratch, "a camera name of");
 }
 
 TEST(RawlogReader, MissingAndEmptyFiles) {

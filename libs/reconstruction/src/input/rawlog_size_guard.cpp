@@ -73,6 +73,14 @@ bool RawlogSizeGuard::collect(const std::uint8_t*& data, std::size_t& n, std::si
   return field_.size() == need;
 }
 
+bool RawlogSizeGuard::skipped(const std::uint8_t*& data, std::size_t& n) {
+  const std::uint64_t take = std::min<std::uint64_t>(skip_, n);
+  data += take;
+  n -= static_cast<std::size_t>(take);
+  skip_ -= take;
+  return skip_ == 0;
+}
+
 void RawlogSizeGuard::idleByte(std::uint8_t byte) {
   recent_[recent_count_ % recent_.size()] = byte;
   ++recent_count_;
@@ -174,14 +182,9 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
           state_ = State::ScanPoints;
         }
         break;
-      case State::ScanPoints: {
-        const std::uint64_t take = std::min<std::uint64_t>(skip_, n);
-        data += take;
-        n -= static_cast<std::size_t>(take);
-        skip_ -= take;
-        if (skip_ == 0) state_ = State::ScanHasRange;
+      case State::ScanPoints:
+        if (skipped(data, n)) state_ = State::ScanHasRange;
         break;
-      }
       case State::ScanHasRange:
         has_range_ = *data != 0;
         ++data;
@@ -226,14 +229,9 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
         ++data;
         --n;
         break;
-      case State::CameraFields: {
-        const std::uint64_t take = std::min<std::uint64_t>(skip_, n);
-        data += take;
-        n -= static_cast<std::size_t>(take);
-        skip_ -= take;
-        if (skip_ == 0) state_ = State::CameraNameLength;
+      case State::CameraFields:
+        if (skipped(data, n)) state_ = State::CameraNameLength;
         break;
-      }
       case State::CameraNameLength:
         if (collect(data, n, 4)) {
           const std::uint32_t length = fieldU32();

@@ -69,6 +69,8 @@ class RawlogSizeGuard : public mrpt::io::CStream {
   void idleByte(std::uint8_t byte);
   // Collects `need` bytes of a field; true once complete (in field_).
   bool collect(const std::uint8_t*& data, std::size_t& n, std::size_t need);
+  // Passes over up to `skip_` bytes; true once all of them are behind.
+  bool skipped(const std::uint8_t*& data, std::size_t& n);
   std::uint32_t fieldU32() const;
   void refuse(const std::string& what);
 
