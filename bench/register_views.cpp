@@ -83,6 +83,10 @@ int main(int argc, char** argv) {
       else if (name == "variance_rounds") r.variance_rounds = int(value);
       else if (name == "retry_angle") r.model_alignment_retry_angle = value;
       else if (name == "pair_ndt") r.pair_ndt = value != 0;
+      else if (name == "ndt_eps") r.ndt.translation_epsilon = r.ndt.rotation_epsilon = value;
+      else if (name == "ndt_max_iterations") r.ndt.max_iterations = int(value);
+      else if (name == "normals_index_order") r.normals_in_index_order = value != 0;
+      else if (name == "pair_ndt_placed") r.pair_ndt_for_placed_views = value != 0;
       else if (name == "max_icp_points") r.icp_max_source_points = static_cast<std::size_t>(value);
       else if (name == "min_normalized_score") r.min_normalized_score = value;
       else if (name == "model_max_translation") r.model_alignment_max_translation = value;
@@ -105,6 +109,12 @@ int main(int argc, char** argv) {
     for (const auto& p : result.pairs) accepted += p.accepted;
     std::cout << nlohmann::json{{"views", views.size()},
                                 {"time_s", seconds},
+                                {"stage_ms",
+                                 {{"prepare", result.stage_times.prepare_ms},
+                                  {"model_alignment", result.stage_times.model_alignment_ms},
+                                  {"pairs", result.stage_times.pairs_ms},
+                                  {"graph", result.stage_times.graph_ms},
+                                  {"joint", result.stage_times.joint_ms}}},
                                 {"pairs_accepted", accepted},
                                 {"joint_iterations", result.joint_iterations},
                                 {"joint_pairs", result.joint_pairs},

@@ -43,7 +43,13 @@ e = d['registration_error']['registered']['aligned']
 assert e['median_sensor_translation_mm'] <= 1.0 and e['median_rotation_deg'] <= 0.3, e
 assert d['registration']['pose_graph']['converged'], d['registration']
 j = d['registration']['joint_refinement']
-assert j['enabled'] and j['iterations'] > 0 and j['applied'] == (j['rejection'] == ''), j
+# Kept exactly when its face-on matches link 0.75 pairs of views per graph pair.
+assert j['enabled'] and j['iterations'] > 0 and j['graph_view_pairs'] > 0, j
+assert j['applied'] == (j['linked_view_pairs'] >= 0.75 * j['graph_view_pairs']), j
+assert j['applied'] == (j['rejection'] == ''), j
+st = d['registration']['stage_time_ms']
+assert all(st[k] >= 0 for k in ('prepare', 'model_alignment', 'pairs', 'graph', 'joint_refinement')), st
+assert sum(st.values()) <= d['time_ms']['registration'] + 1, (st, d['time_ms'])
 for k in ('read', 'filters', 'registration', 'fusion', 'raw_mesh', 'smoothing', 'filtered_mesh', 'total'):
     assert d['time_ms'][k] >= 0, k
 poses = [l.split() for l in open('$work/rec/poses.txt') if l.strip() and not l.startswith('#')]

@@ -164,10 +164,14 @@ std::size_t KdTree::countWithinRadius(const Eigen::Vector3d& query, double radiu
 }
 
 std::vector<double> nearestNeighbourDistances(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 2) return std::vector<double>(points.size(), std::numeric_limits<double>::infinity());
+  return nearestNeighbourDistances(points, KdTree(points));
+}
+
+std::vector<double> nearestNeighbourDistances(const std::vector<Eigen::Vector3d>& points, const KdTree& tree) {
   const std::size_t n = points.size();
   std::vector<double> spacing(n, std::numeric_limits<double>::infinity());
   if (n < 2) return spacing;
-  const KdTree tree(points);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
       // Two neighbours suffice: the point itself is one of them unless

@@ -23,6 +23,7 @@ namespace {
 // Points per accumulation block. Fixed (not derived from the thread count) so
 // the partial sums, and the order they are added in, never change.
 constexpr std::size_t kBlockSize = 512;
+constexpr std::size_t kSerialBlocks = 4;
 
 void validateCloud(const std::vector<Eigen::Vector3d>& points, const std::string& name) {
   if (points.empty()) throw InputError(name, "", "the cloud is empty; nothing to register");
@@ -120,7 +121,7 @@ public:
     const std::size_t n = points_.size();
     const std::size_t blocks = (n + kBlockSize - 1) / kBlockSize;
     std::vector<NdtEvaluation> partial(blocks);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& range) {
+    auto evaluate = [&](const tbb::blocked_range<std::size_t>& range) {
       std::vector<int> cells;
       cells.reserve(27);
       for (std::size_t b = range.begin(); b != range.end(); ++b) {
@@ -169,7 +170,14 @@ public:
           }
         }
       }
-    });
+    };
+    // The same blocks either way (the sums do not depend on it); a few
+    // blocks are not worth the tasks, and a registration run per view in
+    // parallel (the model alignment) keeps the cores busy already.
+    if (blocks <= kSerialBlocks)
+      evaluate(tbb::blocked_range<std::size_t>(0, blocks, 1));
+    else
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), evaluate);
     NdtEvaluation total;
     for (const NdtEvaluation& e : partial) {  // in block order: deterministic
       total.value += e.value;

@@ -35,11 +35,13 @@ NormalEstimationReport estimateNormals(PointCloud& cloud, const NormalEstimation
 
   NormalEstimationReport summary;
   summary.points = n;
-  summary.radius_m = params.radius.relative ? params.radius.metresFor(nearestNeighbourSpacing(cloud.positions).median)
-                                            : params.radius.value;
+  // One tree for the spacing and the small windows' nearest points.
+  const KdTree tree(cloud.positions);
+  summary.radius_m = params.radius.relative
+                         ? params.radius.metresFor(spacingStatistics(nearestNeighbourDistances(cloud.positions, tree)).median)
+                         : params.radius.value;
   const std::size_t k = std::max<std::size_t>(3, params.min_neighbours);
 
-  const KdTree tree(cloud.positions);
   std::vector<Eigen::Vector3d> normals(n, Eigen::Vector3d::UnitZ());
   std::vector<FitUncertainty> uncertainty(n);
   std::atomic<std::size_t> small{0};

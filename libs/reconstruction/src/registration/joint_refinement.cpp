@@ -4,6 +4,7 @@
 #include <icrkit/core/kd_tree.hpp>
 
 #include "cube_key.hpp"
+#include "miss_bounds.hpp"
 
 #include <Eigen/Cholesky>
 #include <tbb/parallel_for.h>
@@ -64,6 +65,9 @@ struct ViewEquations {
   std::size_t pairs = 0;
   std::vector<std::size_t> partners;  // views j with correspondences
 };
+
+// Sources are searched this many pairing distances out (miss_bounds.hpp).
+constexpr double kMissReach = 2.0;
 
 Eigen::Isometry3d worldStep(const Vector6d& x, const Eigen::Vector3d& centre) {
   // x = [t; theta], a rotation about `centre` then a translation (world).
@@ -154,6 +158,9 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
       Eigen::Vector3d::Constant(1.0 / (params.prior_sigma_rotation * params.prior_sigma_rotation));
   std::vector<Vector6d> moved(n, Vector6d::Zero());  // accumulated step per view, for its prior
 
+  // Per view, per partner view: its sources' bounds against the partner's
+  // targets (miss_bounds.hpp), made when the pair first comes near.
+  std::vector<std::vector<MissBounds>> bounds(n, std::vector<MissBounds>(n));
   const std::size_t stages = params.max_distances.size();
   for (int it = 0; it < params.iterations; ++it) {
     const std::size_t stage = std::min(
@@ -176,9 +183,14 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
         Vector6d gi = Vector6d::Zero(), gj = Vector6d::Zero();
         double sq = 0.0, wsum = 0.0;
         std::size_t count = 0;
+        MissBounds& pair_bounds = bounds[i][j];
+        if (pair_bounds.size() != sources[i].size()) pair_bounds = MissBounds(sources[i].size());
+        const KdTree& tree = *trees[j];
+        auto search = [&tree](const Eigen::Vector3d& q, double radius) { return tree.nearestWithin(q, radius); };
         for (std::size_t k = 0; k < sources[i].size(); ++k) {
           const Eigen::Vector3d local = j_from_i * sources[i][k];
-          const long t = trees[j]->nearestWithin(local, max_distance);
+          const long t = pair_bounds.nearestWithin(k, local, max_distance, kMissReach * max_distance,
+                                                   target_points[j], search);
           if (t < 0) continue;
           const std::size_t tk = static_cast<std::size_t>(t);
           // Both normals face their own sensors: the two sides of a thin

@@ -4,6 +4,8 @@
 
 #include <icrkit/core/kd_tree.hpp>
 
+#include "miss_bounds.hpp"
+
 #include <Eigen/Cholesky>
 
 #include <algorithm>
@@ -26,6 +28,10 @@ Eigen::Isometry3d exponential(const Vector6d& x) {
   return t;
 }
 
+// Sources are searched this many pairing distances out, so that a miss
+// keeps them unsearched while the pose moves by up to the difference.
+constexpr double kMissReach = 2.0;
+
 double tukeyWeight(double r, double width) {
   const double u = r / width;
   if (std::abs(u) >= 1.0) return 0.0;
@@ -42,13 +48,15 @@ struct Normal {
 
 // The normal equations of the point-to-plane residuals at `pose`.
 Normal accumulate(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target, const Eigen::Isometry3d& pose,
-                  double max_distance, double width) {
+                  double max_distance, double width, MissBounds& bounds) {
   Normal eq;
   const auto& points = target.points();
   const auto& normals = target.normals();
-  for (const Eigen::Vector3d& s : source) {
+  auto search = [&](const Eigen::Vector3d& q, double radius) { return target.nearest(q, radius); };
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    const Eigen::Vector3d& s = source[i];
     const Eigen::Vector3d p = pose * s;
-    const long k = target.nearest(p, max_distance);
+    const long k = bounds.nearestWithin(i, p, max_distance, kMissReach * max_distance, points, search);
     if (k < 0) continue;
     const Eigen::Vector3d& n = normals[static_cast<std::size_t>(k)];
     const double r = n.dot(p - points[static_cast<std::size_t>(k)]);
@@ -103,11 +111,12 @@ PointToPlaneIcpResult registerPointToPlane(const std::vector<Eigen::Vector3d>& s
     result.failed = true;
     return result;
   }
+  MissBounds bounds(source.size());
   for (double max_distance : params.max_distances) {
     const double width = std::min(params.kernel_width, max_distance);
     result.converged = false;
     for (int it = 0; it < params.max_iterations; ++it) {
-      const Normal eq = accumulate(source, target, result.pose, max_distance, width);
+      const Normal eq = accumulate(source, target, result.pose, max_distance, width, bounds);
       if (eq.count < params.min_correspondences) {
         result.failed = true;
         return result;
@@ -131,7 +140,7 @@ PointToPlaneIcpResult registerPointToPlane(const std::vector<Eigen::Vector3d>& s
     }
   }
   const double last = params.max_distances.back();
-  const Normal eq = accumulate(source, target, result.pose, last, std::min(params.kernel_width, last));
+  const Normal eq = accumulate(source, target, result.pose, last, std::min(params.kernel_width, last), bounds);
   result.correspondences = eq.count;
   result.inlier_fraction = double(eq.count) / double(source.size());
   result.rms_m = eq.weight > 0 ? std::sqrt(eq.weighted_sq / eq.weight) : 0.0;

@@ -53,11 +53,12 @@ PointCloud positionsOnly(const std::vector<Eigen::Vector3d>& points) {
 // Neither the point-to-plane residual nor the observability depends on a
 // normal's sign: facing them to the sensor (the frame's origin) costs
 // nothing, orienting them over a neighbour graph a third of their time.
-std::optional<std::vector<Eigen::Vector3d>> tangentNormals(const std::vector<Eigen::Vector3d>& points) {
+std::optional<std::vector<Eigen::Vector3d>> tangentNormals(const std::vector<Eigen::Vector3d>& points,
+                                                           bool index_order) {
   PointCloud cloud = positionsOnly(points);
   ndt::NormalEstimationParameters facing;
   facing.viewpoint = Eigen::Vector3d::Zero();
-  facing.index_order = true;
+  facing.index_order = index_order;
   try {
     ndt::estimateNormals(cloud, facing);
   } catch (const InputError&) {
@@ -215,7 +216,7 @@ struct SequenceRegistration::Impl {
 
   void prepare(std::size_t i, ScanParts& out);
   void registerPair(const std::vector<ScanParts>& all, const std::vector<Eigen::Isometry3d>& poses, int round,
-                    PairRegistrationRecord& pair, Matrix6d& hessian, Matrix6d& projector) const;
+                    bool both_placed, PairRegistrationRecord& pair, Matrix6d& hessian, Matrix6d& projector) const;
   void alignAndPair(std::size_t i);
   void commit(const PointCloud& points, ScanRegistrationRecord record, std::vector<Eigen::Vector3d> reduced_points,
               std::vector<Eigen::Vector3d> reduced_normals, const std::optional<PosePrior>& prior,
@@ -268,7 +269,7 @@ struct SequenceRegistration::Impl {
   std::vector<Eigen::Vector3d> surfaceNormals(const std::vector<Eigen::Vector3d>& points) const {
     if (!(params.degeneracy_ratio > 0)) return {};
     // Too few points: nothing observed.
-    return tangentNormals(points).value_or(std::vector<Eigen::Vector3d>(points.size(), Eigen::Vector3d::Zero()));
+    return tangentNormals(points, params.normals_in_index_order).value_or(std::vector<Eigen::Vector3d>(points.size(), Eigen::Vector3d::Zero()));
   }
 
   // Why a registration result is not used, or empty when it is. The move
@@ -571,7 +572,8 @@ void recordAlignmentMoves(const std::vector<ScanParts>& parts, const std::vector
 void alignToOthers(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
                    const std::vector<std::vector<Eigen::Vector3d>>& reduced,
                    const std::vector<std::vector<Eigen::Vector3d>>& normals, const std::vector<ScanParts>& parts,
-                   std::vector<Eigen::Isometry3d>& poses, SequenceRegistrationResult& result) {
+                   std::vector<Eigen::Isometry3d>& poses, std::vector<std::uint8_t>& placed,
+                   SequenceRegistrationResult& result) {
   const std::vector<Eigen::Isometry3d> start = poses;
   const std::size_t n = poses.size();
   std::vector<Eigen::Vector3d> centroids(n);
@@ -601,6 +603,7 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
     });
     poses = std::move(next);
     result.model_alignment_accepted.push_back(static_cast<std::size_t>(std::count(kept.begin(), kept.end(), 1)));
+    placed = kept;
   }
   recordAlignmentMoves(parts, start, poses, result);
 }
@@ -624,7 +627,7 @@ void SequenceRegistration::Impl::prepare(std::size_t i, ScanParts& out) {
   }
   if (!params.icp_refinement || reduced[i].size() < 3) return;
   std::optional<std::vector<Eigen::Vector3d>> tangents = normals[i];
-  if (tangents->size() != reduced[i].size()) tangents = tangentNormals(reduced[i]);
+  if (tangents->size() != reduced[i].size()) tangents = tangentNormals(reduced[i], params.normals_in_index_order);
   if (!tangents) return;
   out.icp_target.emplace(reduced[i], std::move(*tangents));
   if (params.icp_source_voxel_size > 0) {
@@ -648,7 +651,7 @@ void SequenceRegistration::Impl::prepare(std::size_t i, ScanParts& out) {
 
 void SequenceRegistration::Impl::registerPair(const std::vector<ScanParts>& all,
                                               const std::vector<Eigen::Isometry3d>& poses, int round,
-                                              PairRegistrationRecord& pair, Matrix6d& hessian,
+                                              bool both_placed, PairRegistrationRecord& pair, Matrix6d& hessian,
                                               Matrix6d& projector) const {
   const Eigen::Isometry3d implied = poses[pair.from].inverse() * poses[pair.to];
   const bool fine = params.icp_refinement && all[pair.from].icp_target && !all[pair.to].icp_source.empty();
@@ -657,7 +660,8 @@ void SequenceRegistration::Impl::registerPair(const std::vector<ScanParts>& all,
     estimate.pose = implied;
     // The NDT's wide basin is needed only from the robot's poses; later
     // rounds start from the graph's, within the ICP's reach.
-    if ((round == 0 && params.pair_ndt) || !fine) {
+    const bool coarse_start = round == 0 && !(both_placed && !params.pair_ndt_for_placed_views);
+    if ((coarse_start && params.pair_ndt) || !fine) {
       if (!all[pair.from].ndt_target) throw InputError("scan " + std::to_string(pair.from), "", "too few points for NDT");
       const std::vector<Eigen::Vector3d>& source = fine ? all[pair.to].ndt_source : reduced[pair.to];
       estimate = ndt::registerNdt(positionsOnly(source), *all[pair.from].ndt_target, implied, coarseNdt());
@@ -672,7 +676,7 @@ void SequenceRegistration::Impl::registerPair(const std::vector<ScanParts>& all,
       PointToPlaneIcpParameters icp_params = params.icp;
       if (round > 0 && icp_params.max_distances.size() > 2)
         icp_params.max_distances.erase(icp_params.max_distances.begin(), icp_params.max_distances.end() - 2);
-      if (round == 0 && !params.pair_ndt)
+      if (coarse_start && !params.pair_ndt)
         icp_params.max_distances.insert(icp_params.max_distances.begin(), params.icp_wide_distances.begin(),
                                         params.icp_wide_distances.end());
       const PointToPlaneIcpResult icp =
@@ -779,7 +783,7 @@ void SequenceRegistration::Impl::alignAndPair(std::size_t i) {
   early_hessians.resize(early_pairs.size(), Matrix6d::Zero());
   early_projectors.resize(early_pairs.size(), Matrix6d::Identity());
   tbb::parallel_for(first, early_pairs.size(), [&](std::size_t k) {
-    registerPair(parts, aligned, 0, early_pairs[k], early_hessians[k], early_projectors[k]);
+    registerPair(parts, aligned, 0, false, early_pairs[k], early_hessians[k], early_projectors[k]);
   });
 }
 
@@ -799,7 +803,7 @@ void SequenceRegistration::Impl::firstRoundPairs(std::vector<PairRegistrationRec
     pair.to = n - 1;
     pair.overlap = overlapFraction(cubes[0], cubes[n - 1]);
     Matrix6d hessian = Matrix6d::Zero(), projector = Matrix6d::Identity();
-    registerPair(parts, aligned, 0, pair, hessian, projector);
+    registerPair(parts, aligned, 0, false, pair, hessian, projector);
     pairs.push_back(pair);
     hessians.push_back(hessian);
     projectors.push_back(projector);
@@ -842,12 +846,16 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     built.resize(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { s.prepare(i, built[i]); });
   }
+  result.stage_times.prepare_ms = msSince(start);
   const std::vector<ScanParts>& parts = params.incremental ? s.parts : built;
 
   std::vector<Eigen::Isometry3d> poses;
   for (const ScanRegistrationRecord& r : s.records) poses.push_back(r.model_pose);
   double alignment_sigma_t = 0.0, alignment_sigma_r = 0.0;  // per view, robust, from the model alignment
   if (params.incremental && !params.model_alignment_resolutions.empty()) poses = s.aligned;
+  // Views the model alignment's last level placed (the batch path only).
+  std::vector<std::uint8_t> placed(n, 0);
+  const auto alignment_start = Clock::now();
   if (n >= 3 && !params.model_alignment_resolutions.empty()) {
     std::vector<Eigen::Isometry3d> reported;
     for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
@@ -857,7 +865,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       for (const ScanRegistrationRecord& r : s.records) before.push_back(r.model_pose);
       recordAlignmentMoves(parts, before, poses, result);
     } else {
-      alignToOthers(params, reported, s.reduced, s.normals, parts, poses, result);
+      alignToOthers(params, reported, s.reduced, s.normals, parts, poses, placed, result);
     }
     // Without the robot's priors the first scan holds the frame (the pose
     // graph fixes it): the views moved together, so move them back as one.
@@ -893,8 +901,10 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       alignment_sigma_r = alignment_sigma_t / (distance / double(counted));
     }
   }
+  result.stage_times.model_alignment_ms = msSince(alignment_start);
   const int rounds = std::max(1, params.refinement_rounds);
   for (int round = 0; round < rounds; ++round) {
+    const auto pairs_start = Clock::now();
     std::vector<PairRegistrationRecord> pairs;
     std::vector<Matrix6d> hessians, projectors;
     if (round == 0 && params.incremental) {
@@ -915,9 +925,12 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       // Each pair is independent and deterministic: their order of
       // completion does not matter.
       tbb::parallel_for(std::size_t{0}, pairs.size(), [&](std::size_t k) {
-        s.registerPair(parts, poses, round, pairs[k], hessians[k], projectors[k]);
+        const bool both_placed = placed[pairs[k].from] && placed[pairs[k].to];
+        s.registerPair(parts, poses, round, both_placed, pairs[k], hessians[k], projectors[k]);
       });
     }
+    result.stage_times.pairs_ms += msSince(pairs_start);
+    const auto graph_start = Clock::now();
 
     // How good the robot's own relative motions and poses are, measured by
     // the consecutive pairs (independent of the robot).
@@ -1125,7 +1138,9 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     result.pair_variance_factor = factor;
     poses.assign(solved.poses.begin(), solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
     result.graph = solved.report;
+    result.stage_times.graph_ms += msSince(graph_start);
   }
+  const auto joint_start = Clock::now();
   if (params.joint_refinement && n >= 2) {
     // Scaled as the ICP was for a sparser sensor (adaptResolutions).
     JointRefinementParameters joint = params.joint;
@@ -1179,6 +1194,10 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     const double needed = params.joint_min_linked_pair_ratio * double(graph_pairs.size());
     if (refined.iterations == 0) {
       result.joint_rejection = "no view has points to match";
+    } else if (graph_pairs.empty()) {
+      // Nothing to compare with: the pairs failed their overlap and ICP
+      // checks, and the joint's matches are the same kind of evidence.
+      result.joint_rejection = "the graph accepted no pair of views";
     } else if (double(refined.linked_view_pairs) < needed) {
       result.joint_rejection = "its face-on points linked " + std::to_string(refined.linked_view_pairs) +
                                " pairs of views, the graph " + std::to_string(graph_pairs.size());
@@ -1187,6 +1206,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       result.joint_applied = true;
     }
   }
+  result.stage_times.joint_ms = msSince(joint_start);
   result.poses = poses;
 
   const bool try_loop = params.loop_closure && n >= 3;

@@ -63,6 +63,8 @@ SpacingStatistics nearestNeighbourSpacing(const std::vector<Eigen::Vector3d>& po
 /// Each point's distance to the nearest other point (0 for a duplicate,
 /// infinity for a lone point), computed in parallel.
 std::vector<double> nearestNeighbourDistances(const std::vector<Eigen::Vector3d>& points);
+/// The same with a tree already built over `points`.
+std::vector<double> nearestNeighbourDistances(const std::vector<Eigen::Vector3d>& points, const KdTree& tree);
 /// Mean and median of such distances (0 for fewer than two).
 SpacingStatistics spacingStatistics(std::vector<double> distances);
 

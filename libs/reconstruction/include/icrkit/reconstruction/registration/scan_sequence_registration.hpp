@@ -144,6 +144,11 @@ struct SequenceRegistrationParameters {
   /// give them; scans stored otherwise (a laser scanner's object-centred
   /// frame) should turn it off.
   bool joint_refinement = true;
+  /// Each view's tangent planes summed point by point in index order (one
+  /// k-d tree query per point); false (default): cube by cube
+  /// (RadiusCells: faster, the sums differ in their last bits; the sweep's
+  /// 54 real-view runs as before to 0.002 mm).
+  bool normals_in_index_order = false;
   JointRefinementParameters joint;
   /// Its poses are kept only when its face-on correspondences link at least
   /// this many pairs of views per pair the graph accepted in its last round.
@@ -152,17 +157,23 @@ struct SequenceRegistrationParameters {
   /// 27 deg onto a block toy (no side face is face-on; the step moved them
   /// 0.3 mm from the truth, where the graph left them at 0.05), 0.89-3.6 on
   /// the nine simulated sets, 1.0-1.6 on the real recording's 9-18 views.
-  /// 0: always kept.
+  /// 0: kept whenever the graph accepted at least one pair (with none, the
+  /// views hardly overlap and the graph's poses stand).
   double joint_min_linked_pair_ratio = 0.75;
   /// Window radius of the normals it matches along (metres): wider than
   /// the pairs' tangent planes, since the face-on test and the normal
-  /// agreement read them too.
+  /// agreement read them too (the tangent planes instead: 0.01 mm farther
+  /// from the reference on the sweep's real views).
   double joint_normal_radius = 0.0035;
   /// First round: the pairs start from the robot's poses, a centimetre or
   /// more apart. true: 3D-NDT on coarse cells brings them within the ICP's
   /// reach; false: the ICP starts with these wider pairing distances
   /// (metres) before its own.
   bool pair_ndt = true;
+  /// ... also for a pair of views both placed by the model alignment's
+  /// last level (1 cm cells against all the other views: within the ICP's
+  /// 6 mm reach). false (default): such pairs start with the ICP.
+  bool pair_ndt_for_placed_views = false;
   std::vector<double> icp_wide_distances{0.02, 0.01};
   /// With the ICP after it, a pair's NDT only has to reach the ICP's basin:
   /// its source is reduced to cubes of this edge (metres).
@@ -215,8 +226,9 @@ struct SequenceRegistrationParameters {
   /// Multiway rounds: after the pose graph is solved the pairs are chosen
   /// again at the new poses (views that now overlap become partners) and
   /// registered again from the graph's relative poses (ICP only), and the
-  /// graph is solved again. 1: a single round.
-  int refinement_rounds = 3;
+  /// graph is solved again. 1: a single round. Two: the joint refinement
+  /// after them does what a third did.
+  int refinement_rounds = 2;
   /// The robot's relative motions are only as good as the data says: the
   /// consecutive pairs' registered relative poses measure the odometry's
   /// error (robust spread per axis), and the odometry edges get
@@ -343,6 +355,13 @@ struct SequenceRegistrationResult {
   double pair_variance_factor = 1.0;
   double first_scan_spacing_m = 0.0;  ///< median nearest-neighbour spacing of the first scan
   double time_ms = 0.0;          ///< registrations, loop closure and graph
+  /// Where finish() spent its time (milliseconds, wall clock): each view's
+  /// reduced inputs and tangent planes, the model alignment, the pairs'
+  /// registrations (all rounds), the pose graphs (all rounds, with their
+  /// variance estimation), the joint refinement (with its normals).
+  struct StageTimes {
+    double prepare_ms = 0.0, model_alignment_ms = 0.0, pairs_ms = 0.0, graph_ms = 0.0, joint_ms = 0.0;
+  } stage_times;
 };
 
 class SequenceRegistration {
