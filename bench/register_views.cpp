@@ -84,7 +84,6 @@ int main(int argc, char** argv) {
       else if (name == "retry_angle") r.model_alignment_retry_angle = value;
       else if (name == "pair_ndt") r.pair_ndt = value != 0;
       else if (name == "ndt_eps") r.ndt.translation_epsilon = r.ndt.rotation_epsilon = value;
-      else if (name == "ndt_max_iterations") r.ndt.max_iterations = int(value);
       else if (name == "normals_index_order") r.normals_in_index_order = value != 0;
       else if (name == "pair_ndt_placed") r.pair_ndt_for_placed_views = value != 0;
       else if (name == "max_icp_points") r.icp_max_source_points = static_cast<std::size_t>(value);

@@ -5,6 +5,7 @@
 
 #include "cube_key.hpp"
 #include "miss_bounds.hpp"
+#include "view_pairs.hpp"
 
 #include <Eigen/Cholesky>
 #include <tbb/parallel_for.h>
@@ -247,10 +248,8 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
     std::size_t pairs = 0;
     std::vector<std::pair<std::size_t, std::size_t>> linked;
     for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j : per_view[i].partners) linked.emplace_back(std::min(i, j), std::max(i, j));
-    std::sort(linked.begin(), linked.end());
-    result.linked_view_pairs =
-        static_cast<std::size_t>(std::unique(linked.begin(), linked.end()) - linked.begin());
+      for (std::size_t j : per_view[i].partners) linked.emplace_back(i, j);
+    result.linked_view_pairs = countUnorderedPairs(std::move(linked));
     for (const ViewEquations& eq : per_view) {
       for (const auto& [ab, m] : eq.blocks)
         h.block<6, 6>(6 * static_cast<Eigen::Index>(ab.first), 6 * static_cast<Eigen::Index>(ab.second)) += m;

@@ -7,6 +7,7 @@
 #include <icrkit/reconstruction/registration/pose_graph_variance.hpp>
 
 #include "cube_key.hpp"
+#include "view_pairs.hpp"
 #include "registration_observability.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -1186,21 +1187,18 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     for (const PairRegistrationRecord& pair : result.pairs) last_round = std::max(last_round, pair.round);
     std::vector<std::pair<std::size_t, std::size_t>> graph_pairs;
     for (const PairRegistrationRecord& pair : result.pairs)
-      if (pair.accepted && pair.round == last_round)
-        graph_pairs.emplace_back(std::min(pair.from, pair.to), std::max(pair.from, pair.to));
-    std::sort(graph_pairs.begin(), graph_pairs.end());
-    graph_pairs.erase(std::unique(graph_pairs.begin(), graph_pairs.end()), graph_pairs.end());
-    result.joint_graph_view_pairs = graph_pairs.size();
-    const double needed = params.joint_min_linked_pair_ratio * double(graph_pairs.size());
+      if (pair.accepted && pair.round == last_round) graph_pairs.emplace_back(pair.from, pair.to);
+    result.joint_graph_view_pairs = countUnorderedPairs(std::move(graph_pairs));
+    const double needed = params.joint_min_linked_pair_ratio * double(result.joint_graph_view_pairs);
     if (refined.iterations == 0) {
       result.joint_rejection = "no view has points to match";
-    } else if (graph_pairs.empty()) {
+    } else if (result.joint_graph_view_pairs == 0) {
       // Nothing to compare with: the pairs failed their overlap and ICP
       // checks, and the joint's matches are the same kind of evidence.
       result.joint_rejection = "the graph accepted no pair of views";
     } else if (double(refined.linked_view_pairs) < needed) {
       result.joint_rejection = "its face-on points linked " + std::to_string(refined.linked_view_pairs) +
-                               " pairs of views, the graph " + std::to_string(graph_pairs.size());
+                               " pairs of views, the graph " + std::to_string(result.joint_graph_view_pairs);
     } else {
       poses = refined.poses;
       result.joint_applied = true;
