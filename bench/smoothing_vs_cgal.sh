@@ -4,19 +4,23 @@
 # windows, and the paper's window) against CGAL's bilateral_smooth_point_set
 # (edge-aware) and jet_smooth_point_set, same neighbourhood (icrkit's radius
 # from reconstruction.json; CGAL's k = the median window count recorded
-# there), each meshed by `icrkit mesh` and measured against the CAD mesh
-# (`icrkit evaluate`'s surface.jsonl: distance, normal error near sharp
-# edges and elsewhere). Prints one Markdown row per dataset and method.
-#   bench/smoothing_vs_cgal.sh BUILD_DIR WORK_DIR DATASET...
-# WORK_DIR/DATASET/object.ply (CAD) and WORK_DIR/DATASET.rec/{cloud.ply,
-# reconstruction.json} (icrkit reconstruct) must exist; bench/plan_acceptance.sh
-# makes them. Needs Debian's libcgal-dev for BUILD_DIR/bench/cgal_smooth.
+# there), each meshed by `icrkit mesh`, rigidly fitted to the CAD mesh (the
+# issue's protocol; ALIGN=none measures in the simulator's frame) and
+# measured against it (`icrkit evaluate`'s surface.jsonl: distance, normal
+# error near sharp edges and elsewhere). Prints one Markdown row per dataset
+# and method.
+#   [ALIGN=icp|none] bench/smoothing_vs_cgal.sh BUILD_DIR WORK_DIR DATASET...
+# WORK_DIR/DATASET/object.ply (CAD, or bun_zipper.ply for the real recording:
+# its vertex normals are derived from the faces when it has none) and
+# WORK_DIR/DATASET.rec/{cloud.ply, reconstruction.json} (icrkit reconstruct)
+# must exist; bench/plan_acceptance.sh makes them. Needs Debian's libcgal-dev for BUILD_DIR/bench/cgal_smooth.
 set -euo pipefail
 build="$(cd "${1:?usage: $0 BUILD_DIR WORK_DIR DATASET...}" && pwd)"
 work="${2:?usage: $0 BUILD_DIR WORK_DIR DATASET...}"
 shift 2
 icrkit="$build/apps/icrkit/icrkit"
 cgal="$build/bench/cgal_smooth"
+align="${ALIGN:-icp}"
 [ -x "$cgal" ] || { echo "no $cgal: install libcgal-dev and rebuild" >&2; exit 77; }
 cd "$work"
 mkdir -p cgal_runs
@@ -41,7 +45,7 @@ print(s['radius_m'], max(8, int(round(s['preselection']['statistics']['median_ca
     seconds=$(/usr/bin/python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]):.1f}')" "$start" "$(date +%s.%N)")
     "$icrkit" mesh "$out.cloud.ply" -o "$out.mesh.ply" -q >/dev/null
     "$icrkit" evaluate --cad "$n/object.ply" --raw "$out.mesh.ply" --filtered "$out.mesh.ply" --name "$n" --fingers 4 \
-      --grasps 1 --plan-top 0 --renders 0 --preselection none -o "$out.eval" -q >/dev/null
+      --grasps 1 --plan-top 0 --renders 0 --preselection none --align "$align" --compute-normals -o "$out.eval" -q >/dev/null
     /usr/bin/python3 - "$n" "$method"  "$seconds" "$out.eval/surface.jsonl" <<'PY'
 import json, sys
 name, method, seconds, path = sys.argv[1:5]

@@ -138,6 +138,8 @@ TEST(SequenceRegistration, RegisteredAsTheScansArriveRecoversThePoses) {
   ASSERT_EQ(all.poses.size(), ring.scans.size());
   for (std::size_t v = 0; v < all.poses.size(); ++v) EXPECT_TRUE(all.poses[v].matrix() == again.poses[v].matrix()) << v;
   EXPECT_TRUE(all.loop_closure.accepted) << all.loop_closure.rejection;
+  // The automatic round count: three as the scans arrive (two together).
+  EXPECT_EQ(all.refinement_rounds, 3);
   // Every view was aligned to the earlier ones at each level.
   ASSERT_EQ(all.model_alignment_accepted.size(), params.model_alignment_resolutions.size());
   for (std::size_t kept : all.model_alignment_accepted) EXPECT_EQ(kept, ring.scans.size() - 1);
@@ -154,6 +156,17 @@ TEST(SequenceRegistration, RegisteredAsTheScansArriveRecoversThePoses) {
   EXPECT_LT(incremental.median_t, 0.2e-3);
   EXPECT_LT(incremental.worst_t, 0.3e-3);
   EXPECT_LT(incremental.worst_r, 0.3 * kDeg);
+}
+
+TEST(SequenceRegistration, ARoundCountBelowZeroIsRefusedByName) {
+  SequenceRegistrationParameters params;
+  params.refinement_rounds = -1;
+  try {
+    params.validate();
+    FAIL() << "a negative round count was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("refinement_rounds"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SequenceRegistration, RecoversPerturbedPosesOfPartialViews) {

@@ -185,6 +185,8 @@ void SequenceRegistrationParameters::validate() const {
   if ((p.prior_sigma_translation > 0) != (p.prior_sigma_rotation > 0))
     throw InputError("prior_sigma_translation / prior_sigma_rotation", "", "set both (> 0) or neither");
   if (p.ndt.resolutions.empty()) throw InputError("ndt.resolutions", "", "expected at least one resolution");
+  if (p.refinement_rounds < 0)
+    throw InputError("refinement_rounds", "", "expected 0 (automatic) or a positive number of rounds");
 }
 
 struct SequenceRegistration::Impl {
@@ -903,7 +905,9 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     }
   }
   result.stage_times.model_alignment_ms = msSince(alignment_start);
-  const int rounds = std::max(1, params.refinement_rounds);
+  const int rounds = params.refinement_rounds > 0 ? params.refinement_rounds
+                     : params.incremental           ? 3
+                                                    : 2;
   for (int round = 0; round < rounds; ++round) {
     const auto pairs_start = Clock::now();
     std::vector<PairRegistrationRecord> pairs;
