@@ -10,10 +10,12 @@
 # error near sharp edges and elsewhere). Prints one Markdown row per dataset
 # and method.
 #   [ALIGN=icp|none] bench/smoothing_vs_cgal.sh BUILD_DIR WORK_DIR DATASET...
-# WORK_DIR/DATASET/object.ply (CAD, or bun_zipper.ply for the real recording:
-# its vertex normals are derived from the faces when it has none) and
 # WORK_DIR/DATASET.rec/{cloud.ply, reconstruction.json} (icrkit reconstruct)
-# must exist; bench/plan_acceptance.sh makes them. Needs Debian's libcgal-dev for BUILD_DIR/bench/cgal_smooth.
+# and the reference WORK_DIR/DATASET/object.ply (the CAD mesh) must exist;
+# bench/plan_acceptance.sh makes them. For its real recording
+# (primesense_bunny) the reference is ../shared/data/stanford-bunny/
+# bun_zipper.ply (ICRKIT_DATA overrides the data folder), whose vertex
+# normals are derived from its faces. Needs Debian's libcgal-dev for BUILD_DIR/bench/cgal_smooth.
 set -euo pipefail
 build="$(cd "${1:?usage: $0 BUILD_DIR WORK_DIR DATASET...}" && pwd)"
 work="${2:?usage: $0 BUILD_DIR WORK_DIR DATASET...}"
@@ -21,6 +23,14 @@ shift 2
 icrkit="$build/apps/icrkit/icrkit"
 cgal="$build/bench/cgal_smooth"
 align="${ALIGN:-icp}"
+data="${ICRKIT_DATA:-$(cd "$(dirname "$0")/.." && pwd)/../shared/data}"
+reference() {  # DATASET: its reference surface
+  if [ ! -f "$1/object.ply" ] && [ "$1" = primesense_bunny ]; then
+    echo "$data/stanford-bunny/bun_zipper.ply"
+  else
+    echo "$1/object.ply"
+  fi
+}
 [ -x "$cgal" ] || { echo "no $cgal: install libcgal-dev and rebuild" >&2; exit 77; }
 cd "$work"
 mkdir -p cgal_runs
@@ -44,7 +54,7 @@ print(s['radius_m'], max(8, int(round(s['preselection']['statistics']['median_ca
     esac
     seconds=$(/usr/bin/python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]):.1f}')" "$start" "$(date +%s.%N)")
     "$icrkit" mesh "$out.cloud.ply" -o "$out.mesh.ply" -q >/dev/null
-    "$icrkit" evaluate --cad "$n/object.ply" --raw "$out.mesh.ply" --filtered "$out.mesh.ply" --name "$n" --fingers 4 \
+    "$icrkit" evaluate --cad "$(reference "$n")" --raw "$out.mesh.ply" --filtered "$out.mesh.ply" --name "$n" --fingers 4 \
       --grasps 1 --plan-top 0 --renders 0 --preselection none --align "$align" --compute-normals -o "$out.eval" -q >/dev/null
     /usr/bin/python3 - "$n" "$method"  "$seconds" "$out.eval/surface.jsonl" <<'PY'
 import json, sys

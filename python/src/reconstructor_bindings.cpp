@@ -158,8 +158,8 @@ void bindReconstructor(py::module_& m) {
            "(one-sided windows, the default of `icrkit reconstruct`) or 'paper' (Algorithm 1 as published). "
            "`raw_mesh`: false skips the paper's raw baseline (meshes() then gives (None, filtered)): a robot grasps "
            "the filtered mesh, which then comes a third sooner. `register_as_scans_arrive`: each add registers its view "
-           "with the earlier ones (the GIL released), so that cloud()/meshes() after the last scan only solve the pose "
-           "graph, fuse and mesh; the result then differs from `icrkit reconstruct` without "
+           "with the earlier ones (the GIL released), so that cloud()/meshes() after the last scan only close the loop, "
+           "solve the pose graph, run the later multiway rounds and the joint refinement, fuse and mesh; the result then differs from `icrkit reconstruct` without "
            "--register-as-scans-arrive (docs/reconstruction.md, \"Streaming\"). `up`: the object frame's up "
            "direction, where the support plane is searched; None: estimated from the poses (`icrkit reconstruct "
            "--up`). `joint_refinement`: false keeps the pose graph's poses (`icrkit reconstruct --no-joint-refinement`).")

@@ -234,8 +234,9 @@ struct SequenceRegistrationParameters {
   /// graph is solved again. 1: a single round. 0 (default): two when the
   /// views are registered at once (the joint refinement after them does
   /// what a third did), three when `incremental` (its first round pairs
-  /// each view with earlier views only; with two rounds the 8-view
-  /// simulated cup's filtered mesh went 0.23 -> 0.32 mm from its CAD).
+  /// each view with earlier views only; with two rounds the simulated
+  /// Kinect cup's filtered mesh went 0.23 -> 0.32 mm from its CAD, three
+  /// bring it to 0.24).
   int refinement_rounds = 0;
   /// The robot's relative motions are only as good as the data says: the
   /// consecutive pairs' registered relative poses measure the odometry's
@@ -368,8 +369,9 @@ struct SequenceRegistrationResult {
   /// registrations (all rounds), the pose graphs (all rounds, with their
   /// variance estimation), the joint refinement (with its normals). As
   /// the scans arrive (`incremental`), the preparation, the alignment and
-  /// the first round's pairs happen in add(): finish() reports them near
-  /// 0, and `time_ms` holds add()'s share.
+  /// the first round's pairs happen in add(): finish() reports the first
+  /// two near 0 and `pairs_ms` holds the later rounds only; `time_ms`
+  /// holds add()'s share too.
   struct StageTimes {
     double prepare_ms = 0.0, model_alignment_ms = 0.0, pairs_ms = 0.0, graph_ms = 0.0, joint_ms = 0.0;
   } stage_times;
