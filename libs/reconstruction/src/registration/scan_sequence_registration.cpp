@@ -506,13 +506,21 @@ bool coarseAlignmentLevel(const SequenceRegistrationParameters& params, double r
   return resolution >= 8.0 * params.pair_ndt_source_voxel_size;
 }
 
+// A view's alignment at one level: where it ends, its normalised NDT
+// score, and whether a turned start (the retry) got it there.
+struct ViewAlignment {
+  Eigen::Isometry3d pose;
+  double score = 0.0;
+  bool retried = false;
+};
+
 // One view against a model of other views at one level, from `from_pose`:
-// its pose when the result is kept (near the reported pose, scored well
-// enough). `reported` is the robot's pose (the limits), `reduced` and
+// its alignment when the result is kept (near the reported pose, scored
+// well enough). `reported` is the robot's pose (the limits), `reduced` and
 // `normals` the view's points and normals (its observability),
 // `source_points` the points registered and `centroid` theirs. Throws
 // InputError when the NDT cannot run.
-std::optional<Eigen::Isometry3d> alignView(const SequenceRegistrationParameters& params, const ndt::NdtTarget& target,
+std::optional<ViewAlignment> alignView(const SequenceRegistrationParameters& params, const ndt::NdtTarget& target,
                                            double resolution, const Eigen::Isometry3d& reported,
                                            const std::vector<Eigen::Vector3d>& reduced,
                                            const std::vector<Eigen::Vector3d>& normals,
@@ -531,6 +539,7 @@ std::optional<Eigen::Isometry3d> alignView(const SequenceRegistrationParameters&
     return std::nullopt;
   };
   std::optional<ndt::NdtResult> best = attempt(from_pose);
+  bool retried = false;
   // A view the coarsest level could not place (from tens of millimetres
   // off it turned around a round object instead): again from the camera
   // turned a little about its two axes across the line of sight, which
@@ -544,11 +553,14 @@ std::optional<Eigen::Isometry3d> alignView(const SequenceRegistrationParameters&
         const Eigen::Isometry3d turned = from_pose * Eigen::AngleAxisd(u * a, Eigen::Vector3d::UnitY()) *
                                          Eigen::AngleAxisd(v * a, Eigen::Vector3d::UnitZ());
         std::optional<ndt::NdtResult> r = attempt(turned);
-        if (r && (!best || r->normalized_score > best->normalized_score)) best = r;
+        if (r && (!best || r->normalized_score > best->normalized_score)) {
+          best = r;
+          retried = true;
+        }
       }
   }
   if (!best) return std::nullopt;
-  return best->pose;
+  return ViewAlignment{best->pose, best->normalized_score, retried};
 }
 
 // The median and largest move of the views' points from `start` to `poses`.
@@ -581,7 +593,13 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   const std::size_t n = poses.size();
   std::vector<Eigen::Vector3d> centroids(n);
   for (std::size_t i = 0; i < n; ++i) centroids[i] = centroidOf(parts[i].ndt_source);
-  for (double resolution : params.model_alignment_resolutions) {
+  // Views the first level placed only from a turned start. A turned start
+  // can reach a wrong basin that scores better on 6 cm cells; the second
+  // level's finer cells judge again: it aligns such a view also from where
+  // it stood without the retry and keeps the better score.
+  std::vector<std::uint8_t> retried(n, 0);
+  for (std::size_t level_index = 0; level_index < params.model_alignment_resolutions.size(); ++level_index) {
+    const double resolution = params.model_alignment_resolutions[level_index];
     const ndt::NdtParameters level = alignmentLevel(params, resolution);
     const bool coarse = coarseAlignmentLevel(params, resolution);
     std::vector<Eigen::Isometry3d> next = poses;
@@ -595,10 +613,18 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
             others.positions.push_back(poses[j] * p);
       try {
         const ndt::NdtTarget target(others, level);
-        if (const auto pose = alignView(params, target, resolution, reported[i], reduced[i], normals[i],
-                                        parts[i].ndt_source, centroids[i], poses[i])) {
-          next[i] = *pose;
+        std::optional<ViewAlignment> aligned = alignView(params, target, resolution, reported[i], reduced[i],
+                                                         normals[i], parts[i].ndt_source, centroids[i], poses[i]);
+        if (level_index == 1 && retried[i]) {
+          const std::optional<ViewAlignment> unturned = alignView(params, target, resolution, reported[i], reduced[i],
+                                                                  normals[i], parts[i].ndt_source, centroids[i],
+                                                                  start[i]);
+          if (unturned && (!aligned || unturned->score > aligned->score)) aligned = unturned;
+        }
+        if (aligned) {
+          next[i] = aligned->pose;
           kept[i] = 1;
+          if (level_index == 0 && aligned->retried) retried[i] = 1;
         }
       } catch (const InputError&) {
         // Too few points for any Gaussian: the view stays where it is.
@@ -737,6 +763,8 @@ void SequenceRegistration::Impl::alignAndPair(std::size_t i) {
       !coarse_cubes.empty() && double(covered) >= params.min_pair_overlap * double(coarse_cubes.size());
   if (i > 0 && covered_enough) {
     const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
+    const Eigen::Isometry3d unturned_start = pose;
+    bool retried = false;  // as in alignToOthers: the second level judges a turned start again
     for (std::size_t l = 0; l < params.model_alignment_resolutions.size(); ++l) {
       const double resolution = params.model_alignment_resolutions[l];
       const bool coarse = coarseAlignmentLevel(params, resolution);
@@ -746,10 +774,18 @@ void SequenceRegistration::Impl::alignAndPair(std::size_t i) {
           earlier.positions.push_back(aligned[j] * p);
       try {
         const ndt::NdtTarget target(earlier, alignmentLevel(params, resolution));
-        if (const auto moved = alignView(params, target, resolution, record.initial_pose, reduced[i], normals[i],
-                                         parts[i].ndt_source, centroid, pose)) {
-          pose = *moved;
+        std::optional<ViewAlignment> moved = alignView(params, target, resolution, record.initial_pose, reduced[i],
+                                                       normals[i], parts[i].ndt_source, centroid, pose);
+        if (l == 1 && retried) {
+          const std::optional<ViewAlignment> unturned = alignView(params, target, resolution, record.initial_pose,
+                                                                  reduced[i], normals[i], parts[i].ndt_source,
+                                                                  centroid, unturned_start);
+          if (unturned && (!moved || unturned->score > moved->score)) moved = unturned;
+        }
+        if (moved) {
+          pose = moved->pose;
           ++level_kept[l];
+          if (l == 0) retried = moved->retried;
         }
       } catch (const InputError&) {
         // Too few points for any Gaussian: the view stays where it is.
