@@ -518,14 +518,18 @@ struct ViewAlignment {
 // its alignment when the result is kept (near the reported pose, scored
 // well enough). `reported` is the robot's pose (the limits), `reduced` and
 // `normals` the view's points and normals (its observability),
-// `source_points` the points registered and `centroid` theirs. Throws
-// InputError when the NDT cannot run.
+// `source_points` the points registered and `centroid` theirs. With
+// `also_from`, the NDT runs from there too and the better score is kept:
+// the second level judges a view the first placed only from a turned
+// start (a wrong basin can score better on the coarse cells) against its
+// unturned pose. Throws InputError when the NDT cannot run.
 std::optional<ViewAlignment> alignView(const SequenceRegistrationParameters& params, const ndt::NdtTarget& target,
-                                           double resolution, const Eigen::Isometry3d& reported,
-                                           const std::vector<Eigen::Vector3d>& reduced,
-                                           const std::vector<Eigen::Vector3d>& normals,
-                                           const std::vector<Eigen::Vector3d>& source_points,
-                                           const Eigen::Vector3d& centroid, const Eigen::Isometry3d& from_pose) {
+                                       double resolution, const Eigen::Isometry3d& reported,
+                                       const std::vector<Eigen::Vector3d>& reduced,
+                                       const std::vector<Eigen::Vector3d>& normals,
+                                       const std::vector<Eigen::Vector3d>& source_points,
+                                       const Eigen::Vector3d& centroid, const Eigen::Isometry3d& from_pose,
+                                       const std::optional<Eigen::Isometry3d>& also_from = std::nullopt) {
   const ndt::NdtParameters level = alignmentLevel(params, resolution);
   const PointCloud source = positionsOnly(source_points);
   // The NDT from `from`; its result when it is kept.
@@ -558,6 +562,13 @@ std::optional<ViewAlignment> alignView(const SequenceRegistrationParameters& par
           retried = true;
         }
       }
+  }
+  if (also_from) {
+    std::optional<ndt::NdtResult> r = attempt(*also_from);
+    if (r && (!best || r->normalized_score > best->normalized_score)) {
+      best = r;
+      retried = false;
+    }
   }
   if (!best) return std::nullopt;
   return ViewAlignment{best->pose, best->normalized_score, retried};
@@ -593,10 +604,8 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   const std::size_t n = poses.size();
   std::vector<Eigen::Vector3d> centroids(n);
   for (std::size_t i = 0; i < n; ++i) centroids[i] = centroidOf(parts[i].ndt_source);
-  // Views the first level placed only from a turned start. A turned start
-  // can reach a wrong basin that scores better on 6 cm cells; the second
-  // level's finer cells judge again: it aligns such a view also from where
-  // it stood without the retry and keeps the better score.
+  // Views the first level placed only from a turned start: the second
+  // level aligns them also from where they stood (alignView's `also_from`).
   std::vector<std::uint8_t> retried(n, 0);
   for (std::size_t level_index = 0; level_index < params.model_alignment_resolutions.size(); ++level_index) {
     const double resolution = params.model_alignment_resolutions[level_index];
@@ -613,14 +622,10 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
             others.positions.push_back(poses[j] * p);
       try {
         const ndt::NdtTarget target(others, level);
-        std::optional<ViewAlignment> aligned = alignView(params, target, resolution, reported[i], reduced[i],
-                                                         normals[i], parts[i].ndt_source, centroids[i], poses[i]);
-        if (level_index == 1 && retried[i]) {
-          const std::optional<ViewAlignment> unturned = alignView(params, target, resolution, reported[i], reduced[i],
-                                                                  normals[i], parts[i].ndt_source, centroids[i],
-                                                                  start[i]);
-          if (unturned && (!aligned || unturned->score > aligned->score)) aligned = unturned;
-        }
+        const std::optional<ViewAlignment> aligned =
+            alignView(params, target, resolution, reported[i], reduced[i], normals[i], parts[i].ndt_source,
+                      centroids[i], poses[i],
+                      level_index == 1 && retried[i] ? std::optional<Eigen::Isometry3d>(start[i]) : std::nullopt);
         if (aligned) {
           next[i] = aligned->pose;
           kept[i] = 1;
@@ -764,7 +769,7 @@ void SequenceRegistration::Impl::alignAndPair(std::size_t i) {
   if (i > 0 && covered_enough) {
     const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
     const Eigen::Isometry3d unturned_start = pose;
-    bool retried = false;  // as in alignToOthers: the second level judges a turned start again
+    bool retried = false;  // placed by a turned start at the first level: judged again at the second
     for (std::size_t l = 0; l < params.model_alignment_resolutions.size(); ++l) {
       const double resolution = params.model_alignment_resolutions[l];
       const bool coarse = coarseAlignmentLevel(params, resolution);
@@ -774,14 +779,10 @@ void SequenceRegistration::Impl::alignAndPair(std::size_t i) {
           earlier.positions.push_back(aligned[j] * p);
       try {
         const ndt::NdtTarget target(earlier, alignmentLevel(params, resolution));
-        std::optional<ViewAlignment> moved = alignView(params, target, resolution, record.initial_pose, reduced[i],
-                                                       normals[i], parts[i].ndt_source, centroid, pose);
-        if (l == 1 && retried) {
-          const std::optional<ViewAlignment> unturned = alignView(params, target, resolution, record.initial_pose,
-                                                                  reduced[i], normals[i], parts[i].ndt_source,
-                                                                  centroid, unturned_start);
-          if (unturned && (!moved || unturned->score > moved->score)) moved = unturned;
-        }
+        const std::optional<ViewAlignment> moved =
+            alignView(params, target, resolution, record.initial_pose, reduced[i], normals[i], parts[i].ndt_source,
+                      centroid, pose,
+                      l == 1 && retried ? std::optional<Eigen::Isometry3d>(unturned_start) : std::nullopt);
         if (moved) {
           pose = moved->pose;
           ++level_kept[l];
