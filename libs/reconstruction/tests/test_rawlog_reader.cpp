@@ -267,6 +267,27 @@ TEST(RawlogReader, AbsurdCameraNameLengthIsRefusedBeforeMrptAllocatesIt) {
   expectRefusedAfterOneScan(bytes, scratch, "a camera name of");
 }
 
+TEST(RawlogReader, AbsurdSensorLabelLengthIsRefusedBeforeMrptAllocatesIt) {
+  // A range scan's tail (after its intensity camera) holds strings MRPT
+  // sizes from their stored length before reading them, the sensor label
+  // first: a corrupt length is refused as the camera name's is.
+  const std::string dir = simulatedRecording(3, false);
+  const fs::path scratch = scratchFolder("absurd_label");
+  const auto reference = loadWithMrpt(dir + "/scans.rawlog");
+  std::string bytes = plainRawlogBytes(reference, (scratch / "whole.rawlog").string());
+  const std::string& label = reference[1]->sensorLabel;
+  ASSERT_FALSE(label.empty());
+  std::string pattern;
+  for (int k = 0; k < 4; ++k) pattern.push_back(static_cast<char>((label.size() >> (8 * k)) & 0xFF));
+  pattern += label;
+  const std::size_t first = bytes.find(pattern);
+  ASSERT_NE(first, std::string::npos);
+  const std::size_t second = bytes.find(pattern, first + 1);
+  ASSERT_NE(second, std::string::npos);
+  bytes.replace(second, 4, std::string("\x00\x00\x00\xF0", 4));
+  expectRefusedAfterOneScan(bytes, scratch, "a sensor label of 4026531840 bytes");
+}
+
 TEST(RawlogReader, MissingAndEmptyFiles) {
   const fs::path scratch = scratchFolder("missing");
   const std::string missing = (scratch / "nope.rawlog").string();

@@ -45,6 +45,7 @@ uint64_t RawlogSizeGuard::Seek(int64_t offset, CStream::TSeekOrigin origin) {
   // A jump breaks the layout being followed: start over from the next header.
   state_ = State::Idle;
   recent_count_ = 0;
+  scan_cameras_ = -1;
   return inner_.Seek(offset, origin);
 }
 
@@ -99,7 +100,10 @@ void RawlogSizeGuard::idleByte(std::uint8_t byte) {
       if (endsWith(h)) state_ = State::ScanVersion;
   } else if (byte == 'a') {
     for (const std::string& h : kCameraHeaders)
-      if (endsWith(h)) state_ = State::CameraVersion;
+      if (endsWith(h)) {
+        state_ = State::CameraVersion;
+        if (scan_cameras_ >= 0) ++scan_cameras_;
+      }
   } else {
     for (const std::string& h : kMatrixHeaders)
       if (endsWith(h)) state_ = State::MatrixVersion;
@@ -123,6 +127,7 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
         // Versions 9 and 10 store the range image's sizes right after the
         // points (older ones store a CMatrixF, caught by its own header).
         state_ = version_ >= 8 && version_ <= 10 ? State::ScanMaxRange : State::Idle;
+        scan_cameras_ = state_ == State::Idle ? -1 : 0;
         break;
       case State::ScanMaxRange:
         if (collect(data, n, 4)) {
@@ -130,7 +135,9 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
           state_ = State::ScanPoseHeader;
         }
         break;
-      case State::ScanPoseHeader: {
+      case State::ScanPoseHeader:
+      case State::TailPoseHeader: {
+        const bool tail = state_ == State::TailPoseHeader;
         // The length byte, then that many bytes of class name.
         if (!collect(data, n, 1)) break;
         const auto length = static_cast<std::uint8_t>(field_[0]);
@@ -142,26 +149,33 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
         if (collect(data, n, 1 + (length & 0x7F))) {
           const std::string name = field_.substr(1);
           state_ = std::find(std::begin(kPoseNames), std::end(kPoseNames), name) != std::end(kPoseNames)
-                       ? State::ScanPoseVersion
+                       ? (tail ? State::TailPoseVersion : State::ScanPoseVersion)
                        : State::Idle;
           field_.clear();
         }
         break;
       }
       case State::ScanPoseVersion:
+      case State::TailPoseVersion:
         pose_bytes_ = poseBytes(*data);
-        state_ = pose_bytes_ > 0 ? State::ScanPoseData : State::Idle;
+        state_ = pose_bytes_ == 0                         ? State::Idle
+                 : state_ == State::ScanPoseVersion ? State::ScanPoseData
+                                                    : State::TailPoseData;
         ++data;
         --n;
         break;
       case State::ScanPoseData:
+      case State::TailPoseData:
         if (collect(data, n, pose_bytes_)) {
           field_.clear();
-          state_ = State::ScanPoseEnd;
+          state_ = state_ == State::ScanPoseData ? State::ScanPoseEnd : State::TailPoseEnd;
         }
         break;
       case State::ScanPoseEnd:
-        state_ = *data == kEndOfObject ? State::ScanHasPoints : State::Idle;
+      case State::TailPoseEnd:
+        state_ = *data != kEndOfObject            ? State::Idle
+                 : state_ == State::ScanPoseEnd ? State::ScanHasPoints
+                                                : State::TailErrorAndStamp;
         ++data;
         --n;
         break;
@@ -224,7 +238,9 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
         break;
       case State::CameraVersion:
         // The name is stored from version 5 on.
-        state_ = *data >= 5 && *data <= 6 ? State::CameraFields : State::Idle;
+        camera_version_ = *data;
+        state_ = camera_version_ >= 5 && camera_version_ <= 6 ? State::CameraFields : State::Idle;
+        if (state_ == State::Idle) scan_cameras_ = -1;
         skip_ = kCameraFieldBytes;
         ++data;
         --n;
@@ -240,9 +256,147 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
           if (length > kMaxCameraName)
             refuse("a camera name of " + std::to_string(length) + " bytes (at most " +
                    std::to_string(kMaxCameraName) + " accepted)");
+          // Version 6 ends with the distortion model (a byte).
+          skip_ = std::uint64_t{length} + (camera_version_ == 6 ? 1 : 0);
+          state_ = State::CameraName;
         }
         break;
+      case State::CameraName:
+        if (skipped(data, n)) state_ = State::CameraEnd;
+        break;
+      case State::CameraEnd: {
+        const bool ended = *data == kEndOfObject;
+        ++data;
+        --n;
+        // A range scan's second camera (its intensity camera) is followed
+        // by the scan's tail.
+        state_ = ended && scan_cameras_ == 2 ? State::TailPoseHeader : State::Idle;
+        if (!ended || scan_cameras_ >= 2) scan_cameras_ = -1;
+        break;
+      }
+      case State::TailErrorAndStamp:
+        if (collect(data, n, 4 + 8)) {
+          field_.clear();
+          enterTail(TailStep::Label);
+        }
+        break;
+      case State::TailStringLength:
+        if (collect(data, n, 4)) {
+          const std::uint32_t length = fieldU32();
+          field_.clear();
+          if (length > kMaxString) {
+            const char* what = tail_step_ == TailStep::Label       ? "a sensor label"
+                               : tail_step_ == TailStep::LayerName ? "a range layer name"
+                                                                   : "an external file name";
+            refuse(std::string(what) + " of " + std::to_string(length) + " bytes (at most " +
+                   std::to_string(kMaxString) + " accepted)");
+          }
+          skip_ = length;
+          state_ = State::TailStringBytes;
+        }
+        break;
+      case State::TailStringBytes:
+        if (skipped(data, n)) tailFieldDone();
+        break;
+      case State::TailFixed:
+        if (collect(data, n, tail_need_)) tailFieldDone();
+        break;
+      case State::TailSkip:
+        if (skipped(data, n)) tailFieldDone();
+        break;
     }
+  }
+}
+
+void RawlogSizeGuard::enterTail(TailStep step) {
+  tail_step_ = step;
+  field_.clear();
+  switch (step) {
+    case TailStep::Label:
+    case TailStep::PointsFile:
+    case TailStep::RangeFile:
+    case TailStep::LayerName:
+      state_ = State::TailStringLength;
+      break;
+    case TailStep::PointsFlag:
+    case TailStep::RangeFlag:
+    case TailStep::LayerCount:
+      tail_need_ = 1;
+      state_ = State::TailFixed;
+      break;
+    case TailStep::DepthChannelLabels:
+      tail_need_ = 3;
+      state_ = State::TailFixed;
+      break;
+    case TailStep::LayerSize:
+      tail_need_ = 8;
+      state_ = State::TailFixed;
+      break;
+    case TailStep::LayerData:
+      state_ = State::TailSkip;  // skip_ set by LayerSize
+      break;
+  }
+}
+
+void RawlogSizeGuard::tailFieldDone() {
+  switch (tail_step_) {
+    case TailStep::Label:
+      enterTail(TailStep::PointsFlag);
+      break;
+    case TailStep::PointsFlag:
+      enterTail(TailStep::PointsFile);
+      break;
+    case TailStep::PointsFile:
+      enterTail(TailStep::RangeFlag);
+      break;
+    case TailStep::RangeFlag:
+      enterTail(TailStep::RangeFile);
+      break;
+    case TailStep::RangeFile:
+      enterTail(TailStep::DepthChannelLabels);
+      break;
+    case TailStep::DepthChannelLabels:
+      // Pixel labels have a layout of their own: left to MRPT, as is a
+      // version without extra layers.
+      if (field_[2] != 0 || version_ < 10) {
+        field_.clear();
+        state_ = State::Idle;
+      } else {
+        enterTail(TailStep::LayerCount);
+      }
+      break;
+    case TailStep::LayerCount:
+      layers_left_ = static_cast<std::uint8_t>(field_[0]);
+      if (layers_left_ == 0) {
+        field_.clear();
+        state_ = State::Idle;
+      } else {
+        enterTail(TailStep::LayerName);
+      }
+      break;
+    case TailStep::LayerName:
+      enterTail(TailStep::LayerSize);
+      break;
+    case TailStep::LayerSize: {
+      const std::uint64_t first = fieldU32();
+      field_.erase(0, 4);
+      const std::uint64_t second = fieldU32();
+      field_.clear();
+      if (first * second > max_elements_)
+        refuse("a range layer of " + std::to_string(first) + " x " + std::to_string(second) + " elements (at most " +
+               std::to_string(max_elements_) + " accepted)");
+      skip_ = first * second * 2;
+      enterTail(TailStep::LayerData);
+      break;
+    }
+    case TailStep::LayerData:
+      if (--layers_left_ > 0) {
+        enterTail(TailStep::LayerName);
+      } else {
+        field_.clear();
+        state_ = State::Idle;
+      }
+      break;
   }
 }
 

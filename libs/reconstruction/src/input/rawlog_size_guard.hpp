@@ -12,8 +12,12 @@
 // camera's intrinsics (TCamera, versions 5-6) end with its name, a string
 // MRPT sizes from its stored length before reading it (a corrupt length:
 // gigabytes for a 2 MB file, found by the fuzz target): refused beyond
-// `kMaxCameraName` bytes. It changes no byte; layouts it does not know it
-// leaves to MRPT.
+// `kMaxCameraName` bytes. After a range scan's second camera (the
+// intensity camera) it follows the scan's tail the same way: the strings
+// MRPT sizes before reading them (the sensor label, the external file
+// names, the extra layers' names) are refused beyond `kMaxString` bytes and
+// an extra range layer beyond `max_elements`. It changes no byte; layouts
+// it does not know it leaves to MRPT.
 
 #include <mrpt/io/CStream.h>
 
@@ -28,6 +32,8 @@ class RawlogSizeGuard : public mrpt::io::CStream {
  public:
   /// A camera name longer than this (bytes) is corrupt.
   static constexpr std::uint32_t kMaxCameraName = 4096;
+  /// A sensor label, file name or layer name longer than this is corrupt.
+  static constexpr std::uint32_t kMaxString = 4096;
 
   RawlogSizeGuard(mrpt::io::CStream& inner, std::uint64_t max_elements);
 
@@ -62,7 +68,32 @@ class RawlogSizeGuard : public mrpt::io::CStream {
     MatrixCols,
     CameraVersion,    // TCamera
     CameraFields,     // skipped: focal length, distortion, intrinsics, size
-    CameraNameLength  // uint32: refused here when too large
+    CameraNameLength, // uint32: refused here when too large
+    CameraName,       // skipped (and version 6's distortion model byte)
+    CameraEnd,        // the end-of-object flag
+    // A range scan's tail, after its intensity camera (versions 8-10):
+    TailPoseHeader,   // relativePoseIntensityWRTDepth, a CPose3D object
+    TailPoseVersion,
+    TailPoseData,
+    TailPoseEnd,
+    TailErrorAndStamp,  // float, uint64
+    TailStringLength,   // uint32: refused here when too large
+    TailStringBytes,    // skipped
+    TailFixed,          // `tail_need_` bytes of flags or sizes
+    TailSkip            // an extra range layer's pixels, skipped
+  };
+  // The fields of a range scan's tail after its timestamp, in stream order.
+  enum class TailStep {
+    Label,               // string
+    PointsFlag,          // bool: points stored in an external file
+    PointsFile,          // string
+    RangeFlag,           // bool: range image stored in an external file
+    RangeFile,           // string
+    DepthChannelLabels,  // bool, int8, bool: pixel labels follow (not followed)
+    LayerCount,          // uint8 (version 10)
+    LayerName,           // string
+    LayerSize,           // uint32 cols, uint32 rows: refused when too large
+    LayerData            // uint16 pixels
   };
 
   void consume(const std::uint8_t* data, std::size_t n);
@@ -81,6 +112,17 @@ class RawlogSizeGuard : public mrpt::io::CStream {
   std::size_t recent_count_ = 0;
   std::string field_;
   std::uint8_t version_ = 0;
+  std::uint8_t camera_version_ = 0;
+  // TCamera headers seen since the last range scan's header (-1: not in a
+  // range scan whose tail this follows).
+  int scan_cameras_ = -1;
+  TailStep tail_step_ = TailStep::Label;
+  std::size_t tail_need_ = 0;
+  std::uint32_t layers_left_ = 0;
+  // Starts reading the tail's field `step`.
+  void enterTail(TailStep step);
+  // The current tail field is complete (its bytes in field_ if fixed).
+  void tailFieldDone();
   std::size_t pose_bytes_ = 0;
   bool has_range_ = false;
   std::uint32_t rows_ = 0;
