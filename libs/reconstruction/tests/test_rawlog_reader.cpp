@@ -571,5 +571,37 @@ TEST(RawlogReader, MrptSampleRgbdRawlog) {
   EXPECT_GT(n, 0u);
 }
 
+TEST(RawlogReader, ExtraRangeLayersAreFollowedAndAnAbsurdLayerSizeIsRefused) {
+  // Version 10 scans may end with extra range layers (a name, the sizes,
+  // the pixels), which MRPT allocates from their stored sizes: a file with
+  // layers reads whole, and a corrupt layer size is refused.
+  const fs::path scratch = scratchFolder("layers");
+  std::vector<mrpt::obs::CObservation3DRangeScan::Ptr> scans;
+  for (int k = 0; k < 2; ++k) {
+    auto obs = std::make_shared<mrpt::obs::CObservation3DRangeScan>(smallScan(8, 6));
+    obs->sensorLabel = "LAYERED";
+    mrpt::math::CMatrix_u16 layer(6, 8);
+    layer.fill(900);
+    obs->rangeImageOtherLayers["strongest"] = layer;
+    scans.push_back(obs);
+  }
+  const std::string whole = (scratch / "whole.rawlog").string();
+  std::string bytes = plainRawlogBytes(scans, whole);
+  EXPECT_EQ(readAllScans(whole).size(), 2u);
+  auto word = [](std::uint32_t v) {
+    std::string w;
+    for (int k = 0; k < 4; ++k) w.push_back(static_cast<char>((v >> (8 * k)) & 0xFF));
+    return w;
+  };
+  // MRPT writes a layer's name, then its columns and rows.
+  const std::string pattern = word(9) + "strongest" + word(8) + word(6);
+  const std::size_t first = bytes.find(pattern);
+  ASSERT_NE(first, std::string::npos);
+  const std::size_t second = bytes.find(pattern, first + 1);
+  ASSERT_NE(second, std::string::npos);
+  bytes.replace(second + 4 + 9, 8, word(1u << 20) + word(1u << 20));
+  expectRefusedAfterOneScan(bytes, scratch, "a range layer of 1048576 x 1048576 elements");
+}
+
 }  // namespace
 }  // namespace icrkit::reconstruction

@@ -138,8 +138,9 @@ void RawlogSizeGuard::consume(const std::uint8_t* data, std::size_t n) {
       case State::ScanPoseHeader:
       case State::TailPoseHeader: {
         const bool tail = state_ == State::TailPoseHeader;
-        // The length byte, then that many bytes of class name.
-        if (!collect(data, n, 1)) break;
+        // The length byte, then that many bytes of class name (a read may
+        // end between them: the length byte is collected only once).
+        if (field_.empty() && !collect(data, n, 1)) break;
         const auto length = static_cast<std::uint8_t>(field_[0]);
         if (!(length & 0x80)) {
           state_ = State::Idle;
