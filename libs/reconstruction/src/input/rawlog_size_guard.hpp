@@ -104,6 +104,10 @@ class RawlogSizeGuard : public mrpt::io::CStream {
   bool skipped(const std::uint8_t*& data, std::size_t& n);
   std::uint32_t fieldU32() const;
   void refuse(const std::string& what);
+  // Starts reading the tail's field `step`.
+  void enterTail(TailStep step);
+  // The current tail field is complete (its bytes in field_ if fixed).
+  void tailFieldDone();
 
   mrpt::io::CStream& inner_;
   std::uint64_t max_elements_;
@@ -119,10 +123,6 @@ class RawlogSizeGuard : public mrpt::io::CStream {
   TailStep tail_step_ = TailStep::Label;
   std::size_t tail_need_ = 0;
   std::uint32_t layers_left_ = 0;
-  // Starts reading the tail's field `step`.
-  void enterTail(TailStep step);
-  // The current tail field is complete (its bytes in field_ if fixed).
-  void tailFieldDone();
   std::size_t pose_bytes_ = 0;
   bool has_range_ = false;
   std::uint32_t rows_ = 0;
