@@ -201,6 +201,13 @@ TEST(RawlogReader, TruncatedPlainFileNamesTheScanReached) {
   fs::remove_all(scratch);
 }
 
+// `v` as MRPT writes a uint32 (little endian).
+std::string littleEndianWord(std::uint32_t v) {
+  std::string w;
+  for (int k = 0; k < 4; ++k) w.push_back(static_cast<char>((v >> (8 * k)) & 0xFF));
+  return w;
+}
+
 // Writes `bytes` (a rawlog corrupted in its second scan) into `scratch`:
 // the reader gives the first scan, then an InputError saying `refusal`.
 void expectRefusedAfterOneScan(const std::string& bytes, const fs::path& scratch, const std::string& refusal) {
@@ -231,8 +238,7 @@ TEST(RawlogReader, AbsurdRangeImageSizeIsRefusedBeforeMrptAllocatesIt) {
   const std::uint32_t cols = static_cast<std::uint32_t>(second.rangeImage.cols());
   std::string pattern(1, '\x01');
   pattern.append(reinterpret_cast<const char*>(&second.rangeUnits), sizeof(float));
-  for (const std::uint32_t word : {rows, cols})
-    for (int k = 0; k < 4; ++k) pattern.push_back(static_cast<char>((word >> (8 * k)) & 0xFF));
+  pattern += littleEndianWord(rows) + littleEndianWord(cols);
   const std::size_t first = bytes.find(pattern);
   ASSERT_NE(first, std::string::npos);
   const std::size_t found = bytes.find(pattern, first + 1);
@@ -253,9 +259,7 @@ TEST(RawlogReader, AbsurdCameraNameLengthIsRefusedBeforeMrptAllocatesIt) {
   std::string bytes = plainRawlogBytes(reference, (scratch / "whole.rawlog").string());
   const std::string& name = reference[1]->cameraParams.cameraName;
   ASSERT_FALSE(name.empty());
-  std::string pattern;
-  for (int k = 0; k < 4; ++k) pattern.push_back(static_cast<char>((name.size() >> (8 * k)) & 0xFF));
-  pattern += name;
+  const std::string pattern = littleEndianWord(static_cast<std::uint32_t>(name.size())) + name;
   // The first scan's two cameras (depth, intensity), then the second's.
   std::size_t at = std::string::npos;
   for (int occurrence = 0, from = 0; occurrence < 3; ++occurrence) {
@@ -277,9 +281,7 @@ TEST(RawlogReader, AbsurdSensorLabelLengthIsRefusedBeforeMrptAllocatesIt) {
   std::string bytes = plainRawlogBytes(reference, (scratch / "whole.rawlog").string());
   const std::string& label = reference[1]->sensorLabel;
   ASSERT_FALSE(label.empty());
-  std::string pattern;
-  for (int k = 0; k < 4; ++k) pattern.push_back(static_cast<char>((label.size() >> (8 * k)) & 0xFF));
-  pattern += label;
+  const std::string pattern = littleEndianWord(static_cast<std::uint32_t>(label.size())) + label;
   const std::size_t first = bytes.find(pattern);
   ASSERT_NE(first, std::string::npos);
   const std::size_t second = bytes.find(pattern, first + 1);
@@ -588,18 +590,14 @@ TEST(RawlogReader, ExtraRangeLayersAreFollowedAndAnAbsurdLayerSizeIsRefused) {
   const std::string whole = (scratch / "whole.rawlog").string();
   std::string bytes = plainRawlogBytes(scans, whole);
   EXPECT_EQ(readAllScans(whole).size(), 2u);
-  auto word = [](std::uint32_t v) {
-    std::string w;
-    for (int k = 0; k < 4; ++k) w.push_back(static_cast<char>((v >> (8 * k)) & 0xFF));
-    return w;
-  };
   // MRPT writes a layer's name, then its columns and rows.
-  const std::string pattern = word(9) + "strongest" + word(8) + word(6);
+  const std::string pattern =
+      littleEndianWord(9) + "strongest" + littleEndianWord(8) + littleEndianWord(6);
   const std::size_t first = bytes.find(pattern);
   ASSERT_NE(first, std::string::npos);
   const std::size_t second = bytes.find(pattern, first + 1);
   ASSERT_NE(second, std::string::npos);
-  bytes.replace(second + 4 + 9, 8, word(1u << 20) + word(1u << 20));
+  bytes.replace(second + 4 + 9, 8, littleEndianWord(1u << 20) + littleEndianWord(1u << 20));
   expectRefusedAfterOneScan(bytes, scratch, "a range layer of 1048576 x 1048576 elements");
 }
 

@@ -318,66 +318,39 @@ void RawlogSizeGuard::enterTail(TailStep step) {
     case TailStep::RangeFile:
     case TailStep::LayerName:
       state_ = State::TailStringLength;
-      break;
-    case TailStep::PointsFlag:
-    case TailStep::RangeFlag:
-    case TailStep::LayerCount:
-      tail_need_ = 1;
-      state_ = State::TailFixed;
-      break;
-    case TailStep::DepthChannelLabels:
-      tail_need_ = 3;
-      state_ = State::TailFixed;
-      break;
-    case TailStep::LayerSize:
-      tail_need_ = 8;
-      state_ = State::TailFixed;
-      break;
+      return;
     case TailStep::LayerData:
       state_ = State::TailSkip;  // skip_ set by LayerSize
-      break;
+      return;
+    default:
+      // Flags and sizes: their bytes.
+      tail_need_ = step == TailStep::DepthChannelLabels ? 3 : step == TailStep::LayerSize ? 8 : 1;
+      state_ = State::TailFixed;
   }
+}
+
+void RawlogSizeGuard::leaveTail() {
+  field_.clear();
+  state_ = State::Idle;
 }
 
 void RawlogSizeGuard::tailFieldDone() {
   switch (tail_step_) {
-    case TailStep::Label:
-      enterTail(TailStep::PointsFlag);
-      break;
-    case TailStep::PointsFlag:
-      enterTail(TailStep::PointsFile);
-      break;
-    case TailStep::PointsFile:
-      enterTail(TailStep::RangeFlag);
-      break;
-    case TailStep::RangeFlag:
-      enterTail(TailStep::RangeFile);
-      break;
-    case TailStep::RangeFile:
-      enterTail(TailStep::DepthChannelLabels);
-      break;
     case TailStep::DepthChannelLabels:
       // Pixel labels have a layout of their own: left to MRPT, as is a
       // version without extra layers.
-      if (field_[2] != 0 || version_ < 10) {
-        field_.clear();
-        state_ = State::Idle;
-      } else {
+      if (field_[2] != 0 || version_ < 10)
+        leaveTail();
+      else
         enterTail(TailStep::LayerCount);
-      }
-      break;
+      return;
     case TailStep::LayerCount:
       layers_left_ = static_cast<std::uint8_t>(field_[0]);
-      if (layers_left_ == 0) {
-        field_.clear();
-        state_ = State::Idle;
-      } else {
+      if (layers_left_ == 0)
+        leaveTail();
+      else
         enterTail(TailStep::LayerName);
-      }
-      break;
-    case TailStep::LayerName:
-      enterTail(TailStep::LayerSize);
-      break;
+      return;
     case TailStep::LayerSize: {
       const std::uint64_t first = fieldU32();
       field_.erase(0, 4);
@@ -388,16 +361,17 @@ void RawlogSizeGuard::tailFieldDone() {
                std::to_string(max_elements_) + " accepted)");
       skip_ = first * second * 2;
       enterTail(TailStep::LayerData);
-      break;
+      return;
     }
     case TailStep::LayerData:
-      if (--layers_left_ > 0) {
+      if (--layers_left_ > 0)
         enterTail(TailStep::LayerName);
-      } else {
-        field_.clear();
-        state_ = State::Idle;
-      }
-      break;
+      else
+        leaveTail();
+      return;
+    default:
+      // The other fields are followed by the next in stream order.
+      enterTail(static_cast<TailStep>(static_cast<int>(tail_step_) + 1));
   }
 }
 

@@ -82,7 +82,8 @@ class RawlogSizeGuard : public mrpt::io::CStream {
     TailFixed,          // `tail_need_` bytes of flags or sizes
     TailSkip            // an extra range layer's pixels, skipped
   };
-  // The fields of a range scan's tail after its timestamp, in stream order.
+  // The fields of a range scan's tail after its timestamp, in stream order
+  // (tailFieldDone steps to the next by value).
   enum class TailStep {
     Label,               // string
     PointsFlag,          // bool: points stored in an external file
@@ -108,6 +109,8 @@ class RawlogSizeGuard : public mrpt::io::CStream {
   void enterTail(TailStep step);
   // The current tail field is complete (its bytes in field_ if fixed).
   void tailFieldDone();
+  // Back to looking for headers.
+  void leaveTail();
 
   mrpt::io::CStream& inner_;
   std::uint64_t max_elements_;
