@@ -59,6 +59,26 @@ assert abs(m['noise_rotation_rad'] - math.radians(0.5)) < 1e-15 and m['hand_eye_
 m = json.load(open('$work/cup_5mm/manifest.json'))['pose_errors']
 assert m['model'] == 'custom' and m['noise_translation_m'] == 0.005 and abs(m['noise_rotation_rad'] - math.radians(1)) < 1e-15, m
 " || fail "pose-error model not recorded"
+# --- Correlated Kinect depth noise: 0 is the default's bytes; a share
+# changes the ranges only, and the manifest and summary name it.
+"$ICRKIT" simulate --object cup --sensor kinect --setup B --views 2 --seed 3 --correlated-noise 0 -o "$work/cup_cn0" -q \
+  >/dev/null || fail "simulate --correlated-noise 0 failed"
+cmp -s "$work/cup/scans.rawlog" "$work/cup_cn0/scans.rawlog" || fail "--correlated-noise 0 changed the rawlog"
+"$ICRKIT" simulate --object cup --sensor kinect --setup B --views 2 --seed 3 --correlated-noise 0.75,3 -o "$work/cup_cn" \
+  --json -q >"$work/cup_cn.json" 2>"$work/err" || fail "simulate --correlated-noise 0.75,3 failed: $(cat "$work/err")"
+cmp -s "$work/cup/scans.rawlog" "$work/cup_cn/scans.rawlog" && fail "--correlated-noise 0.75,3 left the rawlog as it was"
+cmp -s "$work/cup/ground_truth.txt" "$work/cup_cn/ground_truth.txt" || fail "--correlated-noise moved the ground truth"
+py "
+import json
+assert json.load(open('$work/cup_cn.json'))['correlated_depth_noise'] == {'share': 0.75, 'length_px': 3.0}
+assert json.load(open('$work/cup_cn/manifest.json'))['sensor']['correlated_depth_noise'] == {'share': 0.75, 'length_px': 3.0}
+assert 'correlated_depth_noise' not in json.load(open('$work/cup/manifest.json'))['sensor']
+" || fail "correlated noise not recorded"
+expect_input_error "--correlated-noise.*only the Kinect" "$ICRKIT" simulate --views 1 --sensor sr4000 --correlated-noise 0.5 \
+  -o "$work/bad"
+expect_input_error "--correlated-noise.*\\[0, 1\\]" "$ICRKIT" simulate --views 1 --correlated-noise 1.5 -o "$work/bad"
+expect_input_error "--correlated-noise.*(0, 64\\]" "$ICRKIT" simulate --views 1 --correlated-noise 0.5,0 -o "$work/bad"
+expect_input_error "--correlated-noise.*SHARE" "$ICRKIT" simulate --views 1 --correlated-noise 0.5,x -o "$work/bad"
 expect_input_error "--pose-error.*>= 0" "$ICRKIT" simulate --views 1 --pose-error -3mm,1deg -o "$work/bad"
 expect_input_error "--pose-error.*>= 0" "$ICRKIT" simulate --views 1 --pose-error 3mm,-1deg -o "$work/bad"
 expect_input_error "--pose-error.*wobbly" "$ICRKIT" simulate --views 1 --pose-error wobbly -o "$work/bad"

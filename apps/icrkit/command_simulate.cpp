@@ -9,6 +9,8 @@
 #include <icrkit/sim/cad_objects.hpp>
 #include <icrkit/sim/dataset.hpp>
 
+#include <cmath>
+#include <exception>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -27,8 +29,35 @@ struct SimulateOptions {
   double distance = 0.0;
   bool perfect_poses = false;
   std::string pose_error = "arm";
+  std::string correlated_noise;
   std::string output;
 };
+
+// --correlated-noise SHARE[,PIXELS]: the Kinect's shared depth noise.
+void parseCorrelatedNoise(const std::string& text, sim::DatasetSpec& spec) {
+  if (text.empty()) return;
+  const std::vector<std::string> parts = split(text, ',');
+  auto number = [&](const std::string& field) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(field, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != field.size() || !std::isfinite(value))
+      throw InputError("--correlated-noise", "", "expected SHARE[,PIXELS] (e.g. 0.7,3), got '" + text + "'");
+    return value;
+  };
+  if (parts.empty() || parts.size() > 2)
+    throw InputError("--correlated-noise", "", "expected SHARE[,PIXELS] (e.g. 0.7,3), got '" + text + "'");
+  spec.correlated_noise_share = number(parts[0]);
+  if (parts.size() == 2) spec.correlation_px = number(parts[1]);
+  if (!(spec.correlated_noise_share >= 0.0 && spec.correlated_noise_share <= 1.0))
+    throw InputError("--correlated-noise", "", "the share must be in [0, 1], got '" + parts[0] + "'");
+  if (!(spec.correlation_px > 0.0 && spec.correlation_px <= 64.0))
+    throw InputError("--correlated-noise", "", "the length must be in (0, 64] pixels, got '" + parts[1] + "'");
+}
 
 // The text every --pose-error takes; documented once for both commands.
 constexpr const char* kPoseErrorHelp =
@@ -52,6 +81,9 @@ nlohmann::json simulate(const SimulateOptions& o, CommandContext& context) {
   spec.acquisition.seed = o.seed;
   if (o.distance != 0.0) spec.acquisition.distance = o.distance;  // 0: the setup's default
   spec.acquisition.errors = o.perfect_poses ? sim::perfectPoses() : sim::parsePoseErrorModel(o.pose_error);
+  parseCorrelatedNoise(o.correlated_noise, spec);
+  if (spec.correlated_noise_share != 0.0 && spec.sensor != sim::SensorType::Kinect)
+    throw InputError("--correlated-noise", "", "only the Kinect model has correlated depth noise");
   const sim::SimulationReport s = sim::simulateDataset(spec, o.output, context.progress());
   return nlohmann::json::parse(sim::datasetRecordJson(spec, s));
 }
@@ -101,6 +133,11 @@ void addSimulateCommand(CLI::App& app, CommandRunner& runner) {
   auto* perfect = command->add_flag("--perfect-poses", o->perfect_poses,
                                     "Report the true camera poses (same as --pose-error none)");
   command->add_option("--pose-error", o->pose_error, kPoseErrorHelp)->capture_default_str()->excludes(perfect);
+  command->add_option("--correlated-noise", o->correlated_noise,
+                      "Kinect: SHARE[,PIXELS] of the depth noise's variance that neighbouring pixels share (a "
+                      "Gaussian random field of that length, default 3 px; the rest stays independent per pixel, "
+                      "the total sigma unchanged). Default: 0, all independent (docs/sensors.md, \"Correlated depth "
+                      "noise\")");
   command->add_option("-o,--output", o->output, "Output folder (replaced only if it holds an earlier simulation)")
       ->required();
   command->callback([&runner, o] {

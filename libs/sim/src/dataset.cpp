@@ -44,19 +44,23 @@ nlohmann::json isometryJson(const Eigen::Isometry3d& m) {
 
 nlohmann::json modelJson(const SensorModel& m) {
   const CameraIntrinsics& k = m.intrinsics;
-  return {{"name", m.name},
-          {"type", sensorTypeName(m.type)},
-          {"width", k.width},
-          {"height", k.height},
-          {"fx", k.fx},
-          {"fy", k.fy},
-          {"cx", k.cx},
-          {"cy", k.cy},
-          {"distortion_k1_k2_p1_p2_k3", k.distortion},
-          {"range_is_depth", m.range_is_depth},
-          {"range_units_m", m.range_units},
-          {"min_range_m", m.min_range},
-          {"max_range_m", m.max_range}};
+  nlohmann::json json{{"name", m.name},
+                      {"type", sensorTypeName(m.type)},
+                      {"width", k.width},
+                      {"height", k.height},
+                      {"fx", k.fx},
+                      {"fy", k.fy},
+                      {"cx", k.cx},
+                      {"cy", k.cy},
+                      {"distortion_k1_k2_p1_p2_k3", k.distortion},
+                      {"range_is_depth", m.range_is_depth},
+                      {"range_units_m", m.range_units},
+                      {"min_range_m", m.min_range},
+                      {"max_range_m", m.max_range}};
+  // Written only when used: manifests of independent noise read as before.
+  if (m.axial_correlated_share > 0.0)
+    json["correlated_depth_noise"] = {{"share", m.axial_correlated_share}, {"length_px", m.axial_correlation_px}};
+  return json;
 }
 
 // An existing target is replaced only when an earlier simulation made it.
@@ -119,7 +123,14 @@ SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& dir
       object = io::readTriangleMesh(spec.mesh_path);
       if (object.faces.empty()) throw InputError(spec.mesh_path, "", "the mesh has no faces to scan");
     }
-    const SensorModel model = sensorModel(spec.sensor);
+    SensorModel model = sensorModel(spec.sensor);
+    if (spec.correlated_noise_share != 0.0) {
+      if (spec.sensor != SensorType::Kinect)
+        throw InputError("correlated noise", "",
+                         "only the Kinect model has correlated depth noise, not the " + sensorTypeName(spec.sensor));
+      model.axial_correlated_share = spec.correlated_noise_share;
+      model.axial_correlation_px = spec.correlation_px;
+    }
     const std::vector<View> views = planViews(spec.acquisition, object.vertices.bounds());
     const Scene scene = buildScene(object, spec.acquisition.setup);
     const RayCaster caster(scene.mesh);

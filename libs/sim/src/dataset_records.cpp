@@ -37,7 +37,7 @@ std::string datasetFolderName(const DatasetSpec& spec, const std::string& pose_e
 }
 
 std::string datasetRecordJson(const DatasetSpec& spec, const SimulationReport& s) {
-  const nlohmann::json record{
+  nlohmann::json record{
       {"name", datasetName(spec)},
       {"directory", s.directory},
       {"object", spec.mesh_path.empty() ? spec.object : spec.mesh_path},
@@ -51,6 +51,8 @@ std::string datasetRecordJson(const DatasetSpec& spec, const SimulationReport& s
       {"object_pixel_fraction", s.object_pixel_fraction},
       {"files", {"scans.rawlog", "ground_truth.txt", "reported_poses.txt", "object.ply", "scene.ply", "manifest.json"}},
       {"time_ms", s.time_ms}};
+  if (spec.correlated_noise_share != 0.0)
+    record["correlated_depth_noise"] = {{"share", spec.correlated_noise_share}, {"length_px", spec.correlation_px}};
   return record.dump();
 }
 

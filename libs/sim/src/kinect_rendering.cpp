@@ -4,6 +4,7 @@
 /// (shadows), the depth it triangulates (axial noise, 1/8-pixel disparity
 /// steps), and the registered colour and IR images.
 
+#include "gaussian_random_field.hpp"
 #include "kinect_model.hpp"
 #include "lens_distortion.hpp"
 #include "scan_rendering.hpp"
@@ -49,6 +50,12 @@ void renderKinect(const RenderContext& context, SimulatedScan& scan) {
   std::vector<PixelRandom> random;
   for (int row0 = 0; row0 < scan.height; row0 += kRowsPerBatch) {
     const int rows = std::min(kRowsPerBatch, scan.height - row0);
+  // The share of the axial noise that neighbouring pixels have in common.
+  const double correlated_share = model.axial_correlated_share;
+  const std::vector<float> shared_noise =
+      correlated_share > 0.0 ? gaussianRandomField(scan.width, scan.height, model.axial_correlation_px, context.seed)
+                             : std::vector<float>{};
+  const double own_weight = std::sqrt(1.0 - correlated_share), shared_weight = std::sqrt(correlated_share);
     const std::size_t count = static_cast<std::size_t>(rows) * static_cast<std::size_t>(scan.width);
     const std::size_t first = static_cast<std::size_t>(row0) * static_cast<std::size_t>(scan.width);
     auto pixelOf = [&](std::size_t k) {
@@ -154,7 +161,10 @@ void renderKinect(const RenderContext& context, SimulatedScan& scan) {
         const double sigma = kinectAxialSigma(model, z, s.incidence);
         const double step = kinectDepthStep(model, z);
         const double sigma_before = std::sqrt(std::max(sigma * sigma - step * step / 12.0, 0.0));
-        const double disparity = fb / z + sigma_before * fb / (z * z) * random[k].normal();
+        const double standard = shared_noise.empty()
+                                    ? random[k].normal()
+                                    : own_weight * random[k].normal() + shared_weight * shared_noise[pixel];
+        const double disparity = fb / z + sigma_before * fb / (z * z) * standard;
         const double measured = kinectQuantisedDepth(model, disparity);
         if (!(measured >= model.min_range && measured <= model.max_range)) continue;
         scan.range[pixel] = static_cast<float>(measured);

@@ -71,6 +71,11 @@ void checkSensorModel(const SensorModel& model) {
     require(positive(model.disparity_quantisation), "disparity_quantisation", "must be finite and > 0");
     require(model.axial_a >= 0 && model.axial_b >= 0 && model.axial_d >= 0, "axial_a", "noise coefficients must be >= 0");
     require(model.lateral_sigma_px >= 0 && model.lateral_sigma_slope >= 0, "lateral_sigma_px", "must be >= 0");
+    require(model.axial_correlated_share >= 0 && model.axial_correlated_share <= 1, "axial_correlated_share",
+            "must be in [0, 1]");
+    require(
+        model.axial_correlated_share == 0 || (positive(model.axial_correlation_px) && model.axial_correlation_px <= 64),
+        "axial_correlation_px", "must be in (0, 64] pixels");
     require(model.ambient_light >= 0 && model.ambient_light <= 1, "ambient_light", "must be in [0, 1]");
   } else {
     require(positive(model.modulation_frequency), "modulation_frequency", "must be finite and > 0");

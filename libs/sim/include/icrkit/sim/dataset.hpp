@@ -27,6 +27,12 @@ struct DatasetSpec {
   std::string mesh_path;       ///< a user mesh (PLY/OBJ) to scan instead, in metres
   SensorType sensor = SensorType::Kinect;
   AcquisitionParameters acquisition;  ///< setup, views, seed, distances, pose errors
+  /// Kinect only: the share of the axial noise's variance that neighbouring
+  /// pixels have in common and its length in pixels
+  /// (SensorModel::axial_correlated_share, axial_correlation_px). 0: every
+  /// pixel's noise independent, as the paper's datasets are made.
+  double correlated_noise_share = 0.0;
+  double correlation_px = 3.0;
 };
 
 /// The paper's nine object/sensor pairs (Section II-A): SR4000 with setup A

@@ -51,6 +51,16 @@ struct SensorModel {
   /// included, as measured by Nguyen et al. 2012):
   /// sigma_z(z, theta) = a + b (z - c)^2 + d / sqrt(z) * theta^2 / (pi/2 - theta)^2.
   double axial_a = 0.0012, axial_b = 0.0019, axial_c = 0.4, axial_d = 0.0001;
+  /// Share (0..1) of the axial noise's variance that is spatially
+  /// correlated: a structured-light camera matches a window of the pattern
+  /// per pixel, so neighbouring pixels share much of their error. That share
+  /// is a Gaussian random field over the image (white noise blurred by a
+  /// Gaussian of `axial_correlation_px` pixels, autocorrelation
+  /// exp(-d^2 / (4 s^2)) at d pixels), the rest independent per pixel; sigma_z
+  /// is the same either way. 0 (default): all independent, as the datasets
+  /// have always been made. docs/sensors.md, "Correlated depth noise".
+  double axial_correlated_share = 0.0;
+  double axial_correlation_px = 3.0;
   /// Lateral noise in pixels: sigma_L(theta) = lateral_sigma_px + lateral_sigma_slope * theta / (pi/2 - theta).
   double lateral_sigma_px = 0.8, lateral_sigma_slope = 0.035;
   /// Colour image: share of the light that is ambient; the rest is a
