@@ -77,8 +77,10 @@ assert 'correlated_depth_noise' not in json.load(open('$work/cup/manifest.json')
 expect_input_error "--correlated-noise.*only the Kinect" "$ICRKIT" simulate --views 1 --sensor sr4000 --correlated-noise 0.5 \
   -o "$work/bad"
 expect_input_error "--correlated-noise.*\\[0, 1\\]" "$ICRKIT" simulate --views 1 --correlated-noise 1.5 -o "$work/bad"
-expect_input_error "--correlated-noise.*(0, 64\\]" "$ICRKIT" simulate --views 1 --correlated-noise 0.5,0 -o "$work/bad"
+expect_input_error "--correlated-noise.*\\[1, 64\\]" "$ICRKIT" simulate --views 1 --correlated-noise 0.5,0.5 -o "$work/bad"
+expect_input_error "--correlated-noise.*\\[0, 1\\]" "$ICRKIT" simulate --views 1 --correlated-noise -0.1 -o "$work/bad"
 expect_input_error "--correlated-noise.*SHARE" "$ICRKIT" simulate --views 1 --correlated-noise 0.5,x -o "$work/bad"
+expect_input_error "--correlated-noise.*SHARE" "$ICRKIT" simulate --views 1 --correlated-noise 0.5,3,1 -o "$work/bad"
 expect_input_error "--pose-error.*>= 0" "$ICRKIT" simulate --views 1 --pose-error -3mm,1deg -o "$work/bad"
 expect_input_error "--pose-error.*>= 0" "$ICRKIT" simulate --views 1 --pose-error 3mm,-1deg -o "$work/bad"
 expect_input_error "--pose-error.*wobbly" "$ICRKIT" simulate --views 1 --pose-error wobbly -o "$work/bad"

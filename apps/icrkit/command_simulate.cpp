@@ -9,8 +9,6 @@
 #include <icrkit/sim/cad_objects.hpp>
 #include <icrkit/sim/dataset.hpp>
 
-#include <cmath>
-#include <exception>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -33,30 +31,14 @@ struct SimulateOptions {
   std::string output;
 };
 
-// --correlated-noise SHARE[,PIXELS]: the Kinect's shared depth noise.
+// --correlated-noise SHARE[,PIXELS]: the Kinect's shared depth noise. The
+// ranges are the library's to check (simulateDataset names them).
 void parseCorrelatedNoise(const std::string& text, sim::DatasetSpec& spec) {
   if (text.empty()) return;
   const std::vector<std::string> parts = split(text, ',');
-  auto number = [&](const std::string& field) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(field, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != field.size() || !std::isfinite(value))
-      throw InputError("--correlated-noise", "", "expected SHARE[,PIXELS] (e.g. 0.7,3), got '" + text + "'");
-    return value;
-  };
-  if (parts.empty() || parts.size() > 2)
-    throw InputError("--correlated-noise", "", "expected SHARE[,PIXELS] (e.g. 0.7,3), got '" + text + "'");
-  spec.correlated_noise_share = number(parts[0]);
-  if (parts.size() == 2) spec.correlation_px = number(parts[1]);
-  if (!(spec.correlated_noise_share >= 0.0 && spec.correlated_noise_share <= 1.0))
-    throw InputError("--correlated-noise", "", "the share must be in [0, 1], got '" + parts[0] + "'");
-  if (!(spec.correlation_px > 0.0 && spec.correlation_px <= 64.0))
-    throw InputError("--correlated-noise", "", "the length must be in (0, 64] pixels, got '" + parts[1] + "'");
+  const bool numbers = (parts.size() == 1 || parts.size() == 2) && parseNumber(parts[0], spec.correlated_noise_share) &&
+                       (parts.size() == 1 || parseNumber(parts[1], spec.correlated_noise_length_px));
+  if (!numbers) throw InputError("--correlated-noise", "", "expected SHARE[,PIXELS] (e.g. 0.75,3), got '" + text + "'");
 }
 
 // The text every --pose-error takes; documented once for both commands.
@@ -82,9 +64,8 @@ nlohmann::json simulate(const SimulateOptions& o, CommandContext& context) {
   if (o.distance != 0.0) spec.acquisition.distance = o.distance;  // 0: the setup's default
   spec.acquisition.errors = o.perfect_poses ? sim::perfectPoses() : sim::parsePoseErrorModel(o.pose_error);
   parseCorrelatedNoise(o.correlated_noise, spec);
-  if (spec.correlated_noise_share != 0.0 && spec.sensor != sim::SensorType::Kinect)
-    throw InputError("--correlated-noise", "", "only the Kinect model has correlated depth noise");
-  const sim::SimulationReport s = sim::simulateDataset(spec, o.output, context.progress());
+  const sim::SimulationReport s = renamingInputErrors(
+      "correlated noise", "--correlated-noise", [&] { return sim::simulateDataset(spec, o.output, context.progress()); });
   return nlohmann::json::parse(sim::datasetRecordJson(spec, s));
 }
 

@@ -63,6 +63,25 @@ nlohmann::json modelJson(const SensorModel& m) {
   return json;
 }
 
+// The dataset's sensor: the type's model with the spec's correlated noise.
+SensorModel datasetSensorModel(const DatasetSpec& spec) {
+  SensorModel model = sensorModel(spec.sensor);
+  if (spec.correlated_noise_share != 0.0) {
+    if (spec.sensor != SensorType::Kinect)
+      throw InputError("correlated noise", "",
+                       "only the Kinect model has correlated depth noise, not the " + sensorTypeName(spec.sensor));
+    if (!(spec.correlated_noise_share > 0.0 && spec.correlated_noise_share <= 1.0))
+      throw InputError("correlated noise", "",
+                       "the share must be in [0, 1], got " + std::to_string(spec.correlated_noise_share));
+    if (!(spec.correlated_noise_length_px >= 1.0 && spec.correlated_noise_length_px <= 64.0))
+      throw InputError("correlated noise", "",
+                       "the length must be in [1, 64] pixels, got " + std::to_string(spec.correlated_noise_length_px));
+    model.axial_correlated_share = spec.correlated_noise_share;
+    model.axial_correlation_px = spec.correlated_noise_length_px;
+  }
+  return model;
+}
+
 // An existing target is replaced only when an earlier simulation made it.
 void checkTarget(const fs::path& target) {
   std::error_code error;
@@ -107,6 +126,7 @@ SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& dir
   checkTarget(target);
   if (spec.acquisition.views <= 0)
     throw InputError("AcquisitionParameters::views", "", "expected at least one view, got " + std::to_string(spec.acquisition.views));
+  const SensorModel model = datasetSensorModel(spec);
 
   // The staging folder first: an unwritable output fails before any work.
   fs::path staging = target;
@@ -122,14 +142,6 @@ SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& dir
     } else {
       object = io::readTriangleMesh(spec.mesh_path);
       if (object.faces.empty()) throw InputError(spec.mesh_path, "", "the mesh has no faces to scan");
-    }
-    SensorModel model = sensorModel(spec.sensor);
-    if (spec.correlated_noise_share != 0.0) {
-      if (spec.sensor != SensorType::Kinect)
-        throw InputError("correlated noise", "",
-                         "only the Kinect model has correlated depth noise, not the " + sensorTypeName(spec.sensor));
-      model.axial_correlated_share = spec.correlated_noise_share;
-      model.axial_correlation_px = spec.correlation_px;
     }
     const std::vector<View> views = planViews(spec.acquisition, object.vertices.bounds());
     const Scene scene = buildScene(object, spec.acquisition.setup);

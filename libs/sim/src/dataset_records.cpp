@@ -52,7 +52,8 @@ std::string datasetRecordJson(const DatasetSpec& spec, const SimulationReport& s
       {"files", {"scans.rawlog", "ground_truth.txt", "reported_poses.txt", "object.ply", "scene.ply", "manifest.json"}},
       {"time_ms", s.time_ms}};
   if (spec.correlated_noise_share != 0.0)
-    record["correlated_depth_noise"] = {{"share", spec.correlated_noise_share}, {"length_px", spec.correlation_px}};
+    record["correlated_depth_noise"] = {{"share", spec.correlated_noise_share},
+                                        {"length_px", spec.correlated_noise_length_px}};
   return record.dump();
 }
 

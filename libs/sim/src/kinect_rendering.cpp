@@ -48,14 +48,15 @@ void renderKinect(const RenderContext& context, SimulatedScan& scan) {
   std::vector<RayHit> nominal_hits, sampled_hits, shadow_hits;
   std::vector<PixelState> state;
   std::vector<PixelRandom> random;
-  for (int row0 = 0; row0 < scan.height; row0 += kRowsPerBatch) {
-    const int rows = std::min(kRowsPerBatch, scan.height - row0);
-  // The share of the axial noise that neighbouring pixels have in common.
+  // The pattern window a pixel is matched on overlaps its neighbours', so
+  // part of the axial noise is one field over the whole frame, drawn once.
   const double correlated_share = model.axial_correlated_share;
   const std::vector<float> shared_noise =
       correlated_share > 0.0 ? gaussianRandomField(scan.width, scan.height, model.axial_correlation_px, context.seed)
                              : std::vector<float>{};
   const double own_weight = std::sqrt(1.0 - correlated_share), shared_weight = std::sqrt(correlated_share);
+  for (int row0 = 0; row0 < scan.height; row0 += kRowsPerBatch) {
+    const int rows = std::min(kRowsPerBatch, scan.height - row0);
     const std::size_t count = static_cast<std::size_t>(rows) * static_cast<std::size_t>(scan.width);
     const std::size_t first = static_cast<std::size_t>(row0) * static_cast<std::size_t>(scan.width);
     auto pixelOf = [&](std::size_t k) {

@@ -73,9 +73,10 @@ void checkSensorModel(const SensorModel& model) {
     require(model.lateral_sigma_px >= 0 && model.lateral_sigma_slope >= 0, "lateral_sigma_px", "must be >= 0");
     require(model.axial_correlated_share >= 0 && model.axial_correlated_share <= 1, "axial_correlated_share",
             "must be in [0, 1]");
-    require(
-        model.axial_correlated_share == 0 || (positive(model.axial_correlation_px) && model.axial_correlation_px <= 64),
-        "axial_correlation_px", "must be in (0, 64] pixels");
+    // Below a pixel the sampled kernel no longer has the Gaussian
+    // correlation the field promises.
+    require(model.axial_correlated_share == 0 || (model.axial_correlation_px >= 1 && model.axial_correlation_px <= 64),
+            "axial_correlation_px", "must be in [1, 64] pixels");
     require(model.ambient_light >= 0 && model.ambient_light <= 1, "ambient_light", "must be in [0, 1]");
   } else {
     require(positive(model.modulation_frequency), "modulation_frequency", "must be finite and > 0");
@@ -83,6 +84,8 @@ void checkSensorModel(const SensorModel& model) {
     require(model.range_noise_at_reference >= 0, "range_noise_at_reference", "must be >= 0");
     require(model.min_amplitude >= 0, "min_amplitude", "must be >= 0");
     require(positive(model.amplitude_full_scale), "amplitude_full_scale", "must be finite and > 0");
+    require(model.axial_correlated_share == 0, "axial_correlated_share",
+            "must be 0: only the Kinect model has correlated depth noise");
     require(positive(model.wiggling_wavelength), "wiggling_wavelength", "must be finite and > 0");
     require(model.mixed_pixel_samples >= 1 && model.mixed_pixel_samples <= 15 && model.mixed_pixel_samples % 2 == 1,
             "mixed_pixel_samples",

@@ -32,7 +32,7 @@ struct DatasetSpec {
   /// (SensorModel::axial_correlated_share, axial_correlation_px). 0: every
   /// pixel's noise independent, as the paper's datasets are made.
   double correlated_noise_share = 0.0;
-  double correlation_px = 3.0;
+  double correlated_noise_length_px = 3.0;  ///< [1, 64]
 };
 
 /// The paper's nine object/sensor pairs (Section II-A): SR4000 with setup A

@@ -58,7 +58,8 @@ struct SensorModel {
   /// Gaussian of `axial_correlation_px` pixels, autocorrelation
   /// exp(-d^2 / (4 s^2)) at d pixels), the rest independent per pixel; sigma_z
   /// is the same either way. 0 (default): all independent, as the datasets
-  /// have always been made. docs/sensors.md, "Correlated depth noise".
+  /// have always been made. Kinect only; the length in [1, 64] pixels.
+  /// docs/sensors.md, "Correlated depth noise".
   double axial_correlated_share = 0.0;
   double axial_correlation_px = 3.0;
   /// Lateral noise in pixels: sigma_L(theta) = lateral_sigma_px + lateral_sigma_slope * theta / (pi/2 - theta).
