@@ -121,6 +121,8 @@ Json registrationJson(const ReconstructionResult& result, const ReconstructionPa
           {"model_alignment",
            {{"resolutions_m", params.registration.model_alignment_resolutions},
             {"views_kept", r.model_alignment_accepted},
+            {"reseat_tried", r.reseat_tried},
+            {"reseat_moved", r.reseat_moved},
             {"median_move_mm", r.model_alignment_median_move_m * 1e3},
             {"max_move_mm", r.model_alignment_max_move_m * 1e3}}},
           {"joint_refinement",

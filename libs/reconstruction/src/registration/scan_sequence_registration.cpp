@@ -642,6 +642,63 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   recordAlignmentMoves(parts, start, poses, result);
 }
 
+// After the pose graph: each view the model alignment left unplaced,
+// aligned again through the levels against the views it placed, where the
+// graph put them. The graph's pose competes at the finest level
+// (alignView's `also_from`), so a view already home stays home.
+void reseatUnplacedViews(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
+                         const std::vector<std::vector<Eigen::Vector3d>>& reduced,
+                         const std::vector<std::vector<Eigen::Vector3d>>& normals,
+                         const std::vector<ScanParts>& parts, const std::vector<std::uint8_t>& placed,
+                         std::vector<Eigen::Isometry3d>& poses, SequenceRegistrationResult& result) {
+  const std::size_t n = poses.size();
+  std::vector<std::size_t> unplaced;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!placed[i] && !parts[i].ndt_source.empty()) unplaced.push_back(i);
+  // The placed views must be most of the recording for their union to be
+  // the object; otherwise the graph's poses are all there is.
+  if (unplaced.empty() || 2 * unplaced.size() > n) return;
+  const std::vector<Eigen::Isometry3d> graph_poses = poses;
+  std::vector<std::optional<Eigen::Isometry3d>> moved(unplaced.size());
+  tbb::parallel_for(std::size_t{0}, unplaced.size(), [&](std::size_t u) {
+    const std::size_t i = unplaced[u];
+    const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
+    Eigen::Isometry3d pose = graph_poses[i];
+    const std::size_t levels = params.model_alignment_resolutions.size();
+    for (std::size_t level = 0; level < levels; ++level) {
+      const double resolution = params.model_alignment_resolutions[level];
+      const bool coarse = coarseAlignmentLevel(params, resolution);
+      PointCloud others;
+      for (std::size_t j = 0; j < n; ++j)
+        if (placed[j])
+          for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
+            others.positions.push_back(graph_poses[j] * p);
+      try {
+        const ndt::NdtTarget target(others, alignmentLevel(params, resolution));
+        const bool last = level + 1 == levels;
+        const std::optional<ViewAlignment> aligned =
+            alignView(params, target, resolution, reported[i], reduced[i], normals[i], parts[i].ndt_source, centroid,
+                      pose, last ? std::optional<Eigen::Isometry3d>(graph_poses[i]) : std::nullopt);
+        if (aligned) pose = aligned->pose;
+        else if (last) return;  // neither start scores: the graph's pose stays
+      } catch (const InputError&) {
+        return;
+      }
+    }
+    moved[u] = pose;
+  });
+  result.reseat_tried = unplaced.size();
+  for (std::size_t u = 0; u < unplaced.size(); ++u) {
+    if (!moved[u]) continue;
+    const std::size_t i = unplaced[u];
+    const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
+    // A move below the finest cell's reach is the graph's pose refined,
+    // which the joint refinement does anyway; counted only when it moved.
+    if ((*moved[u] * centroid - graph_poses[i] * centroid).norm() > 0.002) ++result.reseat_moved;
+    poses[i] = *moved[u];
+  }
+}
+
 }  // namespace
 
 void SequenceRegistration::Impl::prepare(std::size_t i, ScanParts& out) {
@@ -1181,6 +1238,13 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     poses.assign(solved.poses.begin(), solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
     result.graph = solved.report;
     result.stage_times.graph_ms += msSince(graph_start);
+  }
+  if (params.reseat_unplaced_views && !params.incremental && n >= 3 && !params.model_alignment_resolutions.empty()) {
+    const auto reseat_start = Clock::now();
+    std::vector<Eigen::Isometry3d> reported;
+    for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
+    reseatUnplacedViews(params, reported, s.reduced, s.normals, parts, placed, poses, result);
+    result.stage_times.model_alignment_ms += msSince(reseat_start);
   }
   const auto joint_start = Clock::now();
   if (params.joint_refinement && n >= 2) {

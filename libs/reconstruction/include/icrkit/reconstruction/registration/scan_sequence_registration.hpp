@@ -220,6 +220,13 @@ struct SequenceRegistrationParameters {
   /// least `min_normalized_score`.
   double model_alignment_max_translation = 0.08;
   double model_alignment_max_rotation = 0.25;
+  /// After the pose graph, a view the model alignment's last level did
+  /// not keep is aligned again, through the same levels (and the turned
+  /// starts), against the views it did keep, now where the graph put
+  /// them: at the first level their union was blurred by every view's
+  /// error, now it is sharp. The better-scoring of the new pose and the
+  /// graph's (at the finest level) is kept. Batch registration only.
+  bool reseat_unplaced_views = true;
   /// Registration as the scans arrive: add() aligns each view to the
   /// union of the earlier ones (the model alignment's levels, from its
   /// reported pose) and registers it with its best-overlapping earlier views
@@ -348,6 +355,9 @@ struct SequenceRegistrationResult {
   std::vector<std::size_t> model_alignment_accepted;
   /// Median and largest move of the views' points by the model alignment (metres).
   double model_alignment_median_move_m = 0.0, model_alignment_max_move_m = 0.0;
+  /// Views aligned again after the pose graph (`reseat_unplaced_views`)
+  /// and, of those, the ones whose new pose was kept.
+  std::size_t reseat_tried = 0, reseat_moved = 0;
   int refinement_rounds = 0;  ///< multiway rounds run
   /// The joint refinement (`joint_refinement`): its iterations (0: not
   /// run), pairs of views with correspondences, and weighted RMS residual.
