@@ -14,8 +14,6 @@
 
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -100,22 +98,26 @@ void checkPrimeSenseBunny(bool incremental) {
 
 TEST(RealRecordingRegistration, PrimeSenseBunnyFromItsReportedPoses) { checkPrimeSenseBunny(false); }
 
+TEST(RealRecordingRegistration, PrimeSenseBunnyRegisteredAsTheScansArrive) { checkPrimeSenseBunny(true); }
+
 // A mobile robot's worst class (8 mm / 2 deg per view, 18-34 mm at the
 // object): seed 16 of bench/registration_sweep.py's draws for the 18 real
-// views (its start.txt, MRPT sensor axes). Its first model-alignment level
-// keeps 17 views, the next 15, the last 17: one view is left where the robot
-// put it, and the pose graph alone leaves it there. Aligned again after the
+// views (its start.txt, MRPT sensor axes). The model alignment's four
+// levels keep 17, 15, 17 and 17 views: one view is left where the robot put
+// it, and the pose graph alone leaves it there. Aligned again after the
 // graph against the 17 placed views (`reseat_unplaced_views`), it comes home.
 TEST(RealRecordingRegistration, AViewTheModelAlignmentLeftIsReseatedAfterTheGraph) {
   const std::string dir = std::string(ICRKIT_SHARED_DATA_DIR) + "/primesense-bunny";
   const std::string zipper_path = std::string(ICRKIT_SHARED_DATA_DIR) + "/stanford-bunny/bun_zipper.ply";
   for (const std::string& f : {dir + "/scans.rawlog", zipper_path})
     if (!std::filesystem::exists(f)) GTEST_SKIP() << "shared test data not found: " << f;
-  const std::string starts = (std::filesystem::temp_directory_path() /
-                              ("icrkit_reseat_starts_" + std::to_string(::getpid()) + ".txt"))
-                                 .string();
+  // Removed however the test ends.
+  struct TemporaryFile {
+    std::string path;
+    ~TemporaryFile() { std::remove(path.c_str()); }
+  } starts{testing::TempDir() + "icrkit_reseat_starts.txt"};
   {
-    std::ofstream out(starts);
+    std::ofstream out(starts.path);
     out << R"(# bench/registration_sweep.py, ps18, 8mm/2deg, seed 16
 )"
     "0.000000 0.066921081 0.324987281 0.395391359 -0.569139622 0.692943532 0.338642126 0.285010286\n"
@@ -136,15 +138,15 @@ TEST(RealRecordingRegistration, AViewTheModelAlignmentLeftIsReseatedAfterTheGrap
     "15.000000 0.342195762 0.309045243 0.172089452 -0.347610374 0.740411327 0.573196653 -0.049027459\n"
     "16.000000 0.282400611 0.328726472 0.278931996 -0.448525373 0.736992113 0.496286283 0.096786056\n"
     "17.000000 0.167133442 0.324308688 0.382099207 -0.526046653 0.722135577 0.393785456 0.216166930\n";
+    ASSERT_TRUE(out.good()) << "cannot write " << starts.path;
   }
   const TriangleMesh zipper = io::readTriangleMesh(zipper_path);
   ReconstructionParameters params;
   params.make_meshes = false;
-  params.pose_file = starts;
+  params.pose_file = starts.path;
   const ReconstructionResult reseated = reconstructRawlog(dir + "/scans.rawlog", params);
   params.registration.reseat_unplaced_views = false;
   const ReconstructionResult left = reconstructRawlog(dir + "/scans.rawlog", params);
-  std::filesystem::remove(starts);
   const double reseated_mm = distanceToBunZipper(reseated.cloud, zipper) * 1e3;
   const double left_mm = distanceToBunZipper(left.cloud, zipper) * 1e3;
   std::printf("8 mm / 2 deg, seed 16: views kept per level %zu %zu %zu %zu; re-seated %zu of %zu tried; fused cloud to "
@@ -153,13 +155,9 @@ TEST(RealRecordingRegistration, AViewTheModelAlignmentLeftIsReseatedAfterTheGrap
               reseated.registration.model_alignment_accepted.at(2), reseated.registration.model_alignment_accepted.at(3),
               reseated.registration.reseat_moved, reseated.registration.reseat_tried, reseated_mm, left_mm);
   EXPECT_GE(reseated.registration.reseat_moved, 1u);
-  EXPECT_EQ(left.registration.reseat_tried, 0u);
   EXPECT_LT(reseated_mm, 0.8);
   EXPECT_GT(left_mm, reseated_mm + 0.1);
 }
-
-
-TEST(RealRecordingRegistration, PrimeSenseBunnyRegisteredAsTheScansArrive) { checkPrimeSenseBunny(true); }
 
 }  // namespace
 }  // namespace icrkit::reconstruction

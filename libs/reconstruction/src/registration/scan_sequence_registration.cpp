@@ -512,6 +512,7 @@ struct ViewAlignment {
   Eigen::Isometry3d pose;
   double score = 0.0;
   bool retried = false;
+  bool from_also = false;  // the `also_from` start scored best
 };
 
 // One view against a model of other views at one level, from `from_pose`:
@@ -563,15 +564,17 @@ std::optional<ViewAlignment> alignView(const SequenceRegistrationParameters& par
         }
       }
   }
+  bool from_also = false;
   if (also_from) {
     std::optional<ndt::NdtResult> r = attempt(*also_from);
     if (r && (!best || r->normalized_score > best->normalized_score)) {
       best = r;
       retried = false;
+      from_also = true;
     }
   }
   if (!best) return std::nullopt;
-  return ViewAlignment{best->pose, best->normalized_score, retried};
+  return ViewAlignment{best->pose, best->normalized_score, retried, from_also};
 }
 
 // The median and largest move of the views' points from `start` to `poses`.
@@ -644,8 +647,10 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
 
 // After the pose graph: each view the model alignment left unplaced,
 // aligned again through the levels against the views it placed, where the
-// graph put them. The graph's pose competes at the finest level
-// (alignView's `also_from`), so a view already home stays home.
+// graph put them (the placed views now hold the frame, view 0 included
+// when it is unplaced). The graph's pose competes at the finest level
+// (alignView's `also_from`): the better-scoring start wins, refined
+// against the sharp model either way, so a view already home stays home.
 void reseatUnplacedViews(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
                          const std::vector<std::vector<Eigen::Vector3d>>& reduced,
                          const std::vector<std::vector<Eigen::Vector3d>>& normals,
@@ -653,49 +658,54 @@ void reseatUnplacedViews(const SequenceRegistrationParameters& params, const std
                          std::vector<Eigen::Isometry3d>& poses, SequenceRegistrationResult& result) {
   const std::size_t n = poses.size();
   std::vector<std::size_t> unplaced;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!placed[i] && !parts[i].ndt_source.empty()) unplaced.push_back(i);
-  // The placed views must be most of the recording for their union to be
-  // the object; otherwise the graph's poses are all there is.
-  if (unplaced.empty() || 2 * unplaced.size() > n) return;
-  const std::vector<Eigen::Isometry3d> graph_poses = poses;
-  std::vector<std::optional<Eigen::Isometry3d>> moved(unplaced.size());
+  std::size_t placed_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (parts[i].ndt_source.empty()) continue;
+    if (placed[i]) ++placed_count;
+    else unplaced.push_back(i);
+  }
+  // The placed views must outnumber the others for their union to be the
+  // object; otherwise the graph's poses are all there is.
+  if (unplaced.empty() || placed_count <= unplaced.size()) return;
+  // One model per level, shared by every view re-seated (NdtTarget is
+  // read-only once built).
+  std::vector<std::optional<ndt::NdtTarget>> targets(params.model_alignment_resolutions.size());
+  tbb::parallel_for(std::size_t{0}, targets.size(), [&](std::size_t level) {
+    const double resolution = params.model_alignment_resolutions[level];
+    const bool coarse = coarseAlignmentLevel(params, resolution);
+    PointCloud others;
+    for (std::size_t j = 0; j < n; ++j)
+      if (placed[j])
+        for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
+          others.positions.push_back(poses[j] * p);
+    try {
+      targets[level].emplace(others, alignmentLevel(params, resolution));
+    } catch (const InputError&) {
+      // Too few points for any Gaussian: no re-seat at this level.
+    }
+  });
+  if (!targets.back()) return;
+  std::vector<std::optional<ViewAlignment>> aligned_last(unplaced.size());
   tbb::parallel_for(std::size_t{0}, unplaced.size(), [&](std::size_t u) {
     const std::size_t i = unplaced[u];
     const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
-    Eigen::Isometry3d pose = graph_poses[i];
-    const std::size_t levels = params.model_alignment_resolutions.size();
-    for (std::size_t level = 0; level < levels; ++level) {
-      const double resolution = params.model_alignment_resolutions[level];
-      const bool coarse = coarseAlignmentLevel(params, resolution);
-      PointCloud others;
-      for (std::size_t j = 0; j < n; ++j)
-        if (placed[j])
-          for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
-            others.positions.push_back(graph_poses[j] * p);
-      try {
-        const ndt::NdtTarget target(others, alignmentLevel(params, resolution));
-        const bool last = level + 1 == levels;
-        const std::optional<ViewAlignment> aligned =
-            alignView(params, target, resolution, reported[i], reduced[i], normals[i], parts[i].ndt_source, centroid,
-                      pose, last ? std::optional<Eigen::Isometry3d>(graph_poses[i]) : std::nullopt);
-        if (aligned) pose = aligned->pose;
-        else if (last) return;  // neither start scores: the graph's pose stays
-      } catch (const InputError&) {
-        return;
-      }
+    Eigen::Isometry3d pose = poses[i];
+    for (std::size_t level = 0; level < targets.size(); ++level) {
+      if (!targets[level]) continue;
+      const bool last = level + 1 == targets.size();
+      const std::optional<ViewAlignment> aligned =
+          alignView(params, *targets[level], params.model_alignment_resolutions[level], reported[i], reduced[i],
+                    normals[i], parts[i].ndt_source, centroid, pose,
+                    last ? std::optional<Eigen::Isometry3d>(poses[i]) : std::nullopt);
+      if (aligned) pose = aligned->pose;
+      if (last) aligned_last[u] = aligned;  // neither start scoring: the graph's pose stays
     }
-    moved[u] = pose;
   });
   result.reseat_tried = unplaced.size();
   for (std::size_t u = 0; u < unplaced.size(); ++u) {
-    if (!moved[u]) continue;
-    const std::size_t i = unplaced[u];
-    const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
-    // A move below the finest cell's reach is the graph's pose refined,
-    // which the joint refinement does anyway; counted only when it moved.
-    if ((*moved[u] * centroid - graph_poses[i] * centroid).norm() > 0.002) ++result.reseat_moved;
-    poses[i] = *moved[u];
+    if (!aligned_last[u]) continue;
+    poses[unplaced[u]] = aligned_last[u]->pose;
+    if (!aligned_last[u]->from_also) ++result.reseat_moved;
   }
 }
 

@@ -224,8 +224,10 @@ struct SequenceRegistrationParameters {
   /// not keep is aligned again, through the same levels (and the turned
   /// starts), against the views it did keep, now where the graph put
   /// them: at the first level their union was blurred by every view's
-  /// error, now it is sharp. The better-scoring of the new pose and the
-  /// graph's (at the finest level) is kept. Batch registration only.
+  /// error, now it is sharp. At the finest level the graph's pose competes
+  /// as a start: the better NDT score wins, refined against the placed
+  /// views either way. Skipped unless the placed views outnumber the
+  /// unplaced ones. Batch registration only.
   bool reseat_unplaced_views = true;
   /// Registration as the scans arrive: add() aligns each view to the
   /// union of the earlier ones (the model alignment's levels, from its
@@ -356,7 +358,7 @@ struct SequenceRegistrationResult {
   /// Median and largest move of the views' points by the model alignment (metres).
   double model_alignment_median_move_m = 0.0, model_alignment_max_move_m = 0.0;
   /// Views aligned again after the pose graph (`reseat_unplaced_views`)
-  /// and, of those, the ones whose new pose was kept.
+  /// and, of those, the ones whose re-seated start beat the graph's pose.
   std::size_t reseat_tried = 0, reseat_moved = 0;
   int refinement_rounds = 0;  ///< multiway rounds run
   /// The joint refinement (`joint_refinement`): its iterations (0: not
@@ -379,7 +381,8 @@ struct SequenceRegistrationResult {
   /// Where finish() spent its time (milliseconds, wall clock): each view's
   /// reduced inputs and tangent planes, the model alignment, the pairs'
   /// registrations (all rounds), the pose graphs (all rounds, with their
-  /// variance estimation), the joint refinement (with its normals). As
+  /// variance estimation), the joint refinement (with its normals);
+  /// `model_alignment_ms` includes the re-seat after the graph. As
   /// the scans arrive (`incremental`), the preparation, the alignment and
   /// the first round's pairs happen in add(): finish() reports the first
   /// two near 0 and `pairs_ms` holds the later rounds only; `time_ms`
