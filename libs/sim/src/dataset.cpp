@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scan_rendering.hpp"
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -44,40 +46,32 @@ nlohmann::json isometryJson(const Eigen::Isometry3d& m) {
 
 nlohmann::json modelJson(const SensorModel& m) {
   const CameraIntrinsics& k = m.intrinsics;
-  nlohmann::json json{{"name", m.name},
-                      {"type", sensorTypeName(m.type)},
-                      {"width", k.width},
-                      {"height", k.height},
-                      {"fx", k.fx},
-                      {"fy", k.fy},
-                      {"cx", k.cx},
-                      {"cy", k.cy},
-                      {"distortion_k1_k2_p1_p2_k3", k.distortion},
-                      {"range_is_depth", m.range_is_depth},
-                      {"range_units_m", m.range_units},
-                      {"min_range_m", m.min_range},
-                      {"max_range_m", m.max_range}};
-  // Written only when used: manifests of independent noise read as before.
-  if (m.axial_correlated_share > 0.0)
-    json["correlated_depth_noise"] = {{"share", m.axial_correlated_share}, {"length_px", m.axial_correlation_px}};
-  return json;
+  return {{"name", m.name},
+          {"type", sensorTypeName(m.type)},
+          {"width", k.width},
+          {"height", k.height},
+          {"fx", k.fx},
+          {"fy", k.fy},
+          {"cx", k.cx},
+          {"cy", k.cy},
+          {"distortion_k1_k2_p1_p2_k3", k.distortion},
+          {"range_is_depth", m.range_is_depth},
+          {"range_units_m", m.range_units},
+          {"min_range_m", m.min_range},
+          {"max_range_m", m.max_range}};
 }
 
-// The dataset's sensor: the type's model with the spec's correlated noise.
+// The dataset's sensor: the type's model with the spec's correlated noise,
+// checked by the model's own rules before any output is written.
 SensorModel datasetSensorModel(const DatasetSpec& spec) {
   SensorModel model = sensorModel(spec.sensor);
-  if (spec.correlated_noise_share != 0.0) {
-    if (spec.sensor != SensorType::Kinect)
-      throw InputError("correlated noise", "",
-                       "only the Kinect model has correlated depth noise, not the " + sensorTypeName(spec.sensor));
-    if (!(spec.correlated_noise_share > 0.0 && spec.correlated_noise_share <= 1.0))
-      throw InputError("correlated noise", "",
-                       "the share must be in [0, 1], got " + std::to_string(spec.correlated_noise_share));
-    if (!(spec.correlated_noise_length_px >= 1.0 && spec.correlated_noise_length_px <= 64.0))
-      throw InputError("correlated noise", "",
-                       "the length must be in [1, 64] pixels, got " + std::to_string(spec.correlated_noise_length_px));
-    model.axial_correlated_share = spec.correlated_noise_share;
-    model.axial_correlation_px = spec.correlated_noise_length_px;
+  if (spec.correlated_noise_share == 0.0) return model;
+  model.axial_correlated_share = spec.correlated_noise_share;
+  model.axial_correlation_px = spec.correlated_noise_length_px;
+  try {
+    checkSensorModel(model);
+  } catch (const InputError& error) {
+    throw InputError("correlated noise", error.location(), error.detail());
   }
   return model;
 }
@@ -186,7 +180,7 @@ SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& dir
       views_json.push_back({{"timestamp", kRawlogEpoch + v.timestamp},
                             {"true_optical_in_object", isometryJson(v.true_camera)},
                             {"reported_optical_in_object", isometryJson(v.reported_camera)}});
-    const nlohmann::json manifest{
+    nlohmann::json manifest{
         {"format", "icrkit simulated recording 1"},
         {"object", spec.mesh_path.empty() ? spec.object : spec.mesh_path},
         {"object_vertices", summary.object_vertices},
@@ -216,6 +210,10 @@ SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& dir
         {"valid_pixel_fraction", summary.valid_pixel_fraction},
         {"object_pixel_fraction", summary.object_pixel_fraction},
         {"views_detail", views_json}};
+    // Written only when used: manifests of independent noise read as before.
+    if (model.axial_correlated_share > 0.0)
+      manifest["sensor"]["correlated_depth_noise"] = {{"share", model.axial_correlated_share},
+                                                      {"length_px", model.axial_correlation_px}};
     writeFileAtomically((staging / "manifest.json").string(),
                         [&](std::ostream& out) { out << manifest.dump(2) << '\n'; }, false);
     fs::remove_all(target, error);

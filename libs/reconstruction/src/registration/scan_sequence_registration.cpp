@@ -506,6 +506,21 @@ bool coarseAlignmentLevel(const SequenceRegistrationParameters& params, double r
   return resolution >= 8.0 * params.pair_ndt_source_voxel_size;
 }
 
+// What a view is aligned against at one level: the points of the views
+// `use` selects among the first poses.size(), each moved by its pose, in
+// view order (their 5 mm cubes for a coarse level, the 2.5 mm ones else).
+template <class Use>
+PointCloud modelOfViews(const SequenceRegistrationParameters& params, double resolution,
+                        const std::vector<ScanParts>& parts, const std::vector<Eigen::Isometry3d>& poses, Use use) {
+  const bool coarse = coarseAlignmentLevel(params, resolution);
+  PointCloud model;
+  for (std::size_t j = 0; j < poses.size(); ++j)
+    if (use(j))
+      for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
+        model.positions.push_back(poses[j] * p);
+  return model;
+}
+
 // A view's alignment at one level: where it ends, its normalised NDT
 // score, and whether a turned start (the retry) got it there.
 struct ViewAlignment {
@@ -613,16 +628,11 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   for (std::size_t level_index = 0; level_index < params.model_alignment_resolutions.size(); ++level_index) {
     const double resolution = params.model_alignment_resolutions[level_index];
     const ndt::NdtParameters level = alignmentLevel(params, resolution);
-    const bool coarse = coarseAlignmentLevel(params, resolution);
     std::vector<Eigen::Isometry3d> next = poses;
     std::vector<std::uint8_t> kept(n, 0);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
       if (parts[i].ndt_source.empty()) return;
-      PointCloud others;
-      for (std::size_t j = 0; j < n; ++j)
-        if (j != i)
-          for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
-            others.positions.push_back(poses[j] * p);
+      const PointCloud others = modelOfViews(params, resolution, parts, poses, [i](std::size_t j) { return j != i; });
       try {
         const ndt::NdtTarget target(others, level);
         const std::optional<ViewAlignment> aligned =
@@ -672,12 +682,8 @@ void reseatUnplacedViews(const SequenceRegistrationParameters& params, const std
   std::vector<std::optional<ndt::NdtTarget>> targets(params.model_alignment_resolutions.size());
   tbb::parallel_for(std::size_t{0}, targets.size(), [&](std::size_t level) {
     const double resolution = params.model_alignment_resolutions[level];
-    const bool coarse = coarseAlignmentLevel(params, resolution);
-    PointCloud others;
-    for (std::size_t j = 0; j < n; ++j)
-      if (placed[j])
-        for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
-          others.positions.push_back(poses[j] * p);
+    const PointCloud others =
+        modelOfViews(params, resolution, parts, poses, [&placed](std::size_t j) { return placed[j] != 0; });
     try {
       targets[level].emplace(others, alignmentLevel(params, resolution));
     } catch (const InputError&) {
@@ -839,11 +845,7 @@ void SequenceRegistration::Impl::alignAndPair(std::size_t i) {
     bool retried = false;  // placed by a turned start at the first level: judged again at the second
     for (std::size_t l = 0; l < params.model_alignment_resolutions.size(); ++l) {
       const double resolution = params.model_alignment_resolutions[l];
-      const bool coarse = coarseAlignmentLevel(params, resolution);
-      PointCloud earlier;
-      for (std::size_t j = 0; j < i; ++j)
-        for (const Eigen::Vector3d& p : coarse ? parts[j].ndt_source : parts[j].model_points)
-          earlier.positions.push_back(aligned[j] * p);
+      const PointCloud earlier = modelOfViews(params, resolution, parts, aligned, [i](std::size_t j) { return j < i; });
       try {
         const ndt::NdtTarget target(earlier, alignmentLevel(params, resolution));
         const std::optional<ViewAlignment> moved =
@@ -962,10 +964,10 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   if (params.incremental && !params.model_alignment_resolutions.empty()) poses = s.aligned;
   // Views the model alignment's last level placed (the batch path only).
   std::vector<std::uint8_t> placed(n, 0);
+  std::vector<Eigen::Isometry3d> reported;  // the robot's poses: the model alignment's limits
+  for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
   const auto alignment_start = Clock::now();
   if (n >= 3 && !params.model_alignment_resolutions.empty()) {
-    std::vector<Eigen::Isometry3d> reported;
-    for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
     if (params.incremental) {
       result.model_alignment_accepted = s.level_kept;
       std::vector<Eigen::Isometry3d> before;
@@ -1251,8 +1253,6 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   }
   if (params.reseat_unplaced_views && !params.incremental && n >= 3 && !params.model_alignment_resolutions.empty()) {
     const auto reseat_start = Clock::now();
-    std::vector<Eigen::Isometry3d> reported;
-    for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
     reseatUnplacedViews(params, reported, s.reduced, s.normals, parts, placed, poses, result);
     result.stage_times.model_alignment_ms += msSince(reseat_start);
   }
