@@ -83,6 +83,10 @@ int main(int argc, char** argv) {
       else if (name == "variance_rounds") r.variance_rounds = int(value);
       else if (name == "retry_angle") r.model_alignment_retry_angle = value;
       else if (name == "reseat") r.reseat_unplaced_views = value != 0;
+      else if (name == "reseat_min_shared") r.reseat_min_shared_cubes = value;
+      else if (name == "reseat_min_pair") r.reseat_min_pair_cubes = value;
+      else if (name == "reseat_search_step") r.reseat_search_step = value;
+      else if (name == "reseat_search_steps") r.reseat_search_steps = int(value);
       else if (name == "pair_ndt") r.pair_ndt = value != 0;
       else if (name == "ndt_eps") r.ndt.translation_epsilon = r.ndt.rotation_epsilon = value;
       else if (name == "normals_index_order") r.normals_in_index_order = value != 0;
@@ -126,6 +130,7 @@ int main(int argc, char** argv) {
                                 {"model_alignment_accepted", result.model_alignment_accepted},
                                 {"reseat_tried", result.reseat_tried},
                                 {"reseat_moved", result.reseat_moved},
+                                {"reseat_searched", result.reseat_searched},
                                 {"model_alignment_median_move_m", result.model_alignment_median_move_m},
                                 {"model_alignment_max_move_m", result.model_alignment_max_move_m},
                                 {"measured_odometry_sigma_mm", result.measured_odometry_sigma_translation_m * 1e3},

@@ -123,6 +123,7 @@ Json registrationJson(const ReconstructionResult& result, const ReconstructionPa
             {"views_kept", r.model_alignment_accepted},
             {"reseat_tried", r.reseat_tried},
             {"reseat_moved", r.reseat_moved},
+            {"reseat_searched", r.reseat_searched},
             {"median_move_mm", r.model_alignment_median_move_m * 1e3},
             {"max_move_mm", r.model_alignment_max_move_m * 1e3}}},
           {"joint_refinement",

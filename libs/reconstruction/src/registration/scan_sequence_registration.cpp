@@ -9,6 +9,7 @@
 #include "cube_key.hpp"
 #include "view_pairs.hpp"
 #include "registration_observability.hpp"
+#include "view_overlap.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -185,6 +186,17 @@ void SequenceRegistrationParameters::validate() const {
   if ((p.prior_sigma_translation > 0) != (p.prior_sigma_rotation > 0))
     throw InputError("prior_sigma_translation / prior_sigma_rotation", "", "set both (> 0) or neither");
   if (p.ndt.resolutions.empty()) throw InputError("ndt.resolutions", "", "expected at least one resolution");
+  if (!(p.reseat_min_shared_cubes >= 0 && p.reseat_min_shared_cubes <= 1))
+    throw InputError("reseat_min_shared_cubes", "", "expected a share between 0 and 1");
+  if (!(p.reseat_min_pair_cubes >= 0 && p.reseat_min_pair_cubes <= 1))
+    throw InputError("reseat_min_pair_cubes", "", "expected a share between 0 and 1");
+  if (p.reseat_min_shared_cubes > 0 || p.reseat_min_pair_cubes > 0)
+    positive(p.reseat_overlap_cube, "reseat_overlap_cube");
+  if (!(p.reseat_search_step >= 0) || !std::isfinite(p.reseat_search_step))
+    throw InputError("reseat_search_step", "", "expected a step >= 0 (metres; 0: no search)");
+  // 5 steps: 1330 starts a view, already far beyond the levels' reach.
+  if (p.reseat_search_steps < 1 || p.reseat_search_steps > 5)
+    throw InputError("reseat_search_steps", "", "expected 1 to 5 steps along each axis");
   if (p.refinement_rounds < 0)
     throw InputError("refinement_rounds", "", "expected 0 (automatic) or a positive number of rounds");
 }
@@ -260,6 +272,10 @@ struct SequenceRegistration::Impl {
       const double scale = first_spacing / params.icp_spacing_reference;
       for (double& d : params.icp.max_distances) d *= scale;
       params.icp.kernel_width *= scale;
+      // Its views' cubes too: with a few points per 4 mm cube, two views
+      // of the same surface occupy different ones (a real ToF camera's
+      // view in place shared 0.10 of them).
+      params.reseat_overlap_cube *= scale;
     }
     if (!(params.min_resolution_spacing_factor > 0) || !(first_spacing > 0)) return;
     std::vector<double> kept;
@@ -655,35 +671,91 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   recordAlignmentMoves(parts, start, poses, result);
 }
 
-// After the pose graph: each view the model alignment left unplaced,
-// aligned again through the levels against the views it placed, where the
-// graph put them (the placed views now hold the frame, view 0 included
-// when it is unplaced). The graph's pose competes at the finest level
-// (alignView's `also_from`): the better-scoring start wins, refined
-// against the sharp model either way, so a view already home stays home.
-void reseatUnplacedViews(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
-                         const std::vector<std::vector<Eigen::Vector3d>>& reduced,
-                         const std::vector<std::vector<Eigen::Vector3d>>& normals,
-                         const std::vector<ScanParts>& parts, const std::vector<std::uint8_t>& placed,
-                         std::vector<Eigen::Isometry3d>& poses, SequenceRegistrationResult& result) {
+// The views the graph left apart from the others (view_overlap.hpp): few
+// of their cubes shared with any other view, or outside the largest group
+// of linked views when that group holds most of them. `points`: each
+// view's points (an empty view is never apart).
+std::vector<std::uint8_t> viewsApart(const SequenceRegistrationParameters& params, const CubeOverlap& overlap,
+                                     const std::vector<std::vector<Eigen::Vector3d>>& points) {
+  const std::size_t n = points.size();
+  std::vector<std::uint8_t> apart(n, 0);
+  std::vector<double> held;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!points[i].empty()) held.push_back(overlap.shared[i]);
+  if (held.empty()) return apart;
+  std::nth_element(held.begin(), held.begin() + static_cast<std::ptrdiff_t>(held.size() / 2), held.end());
+  const double median = held[held.size() / 2];
+  // Well below its peers too: a recording whose views barely overlap (a
+  // few views far apart) has every share low.
+  for (std::size_t i = 0; i < n; ++i)
+    apart[i] = !points[i].empty() && overlap.shared[i] < params.reseat_min_shared_cubes &&
+               overlap.shared[i] < 0.5 * median;
+  // Views off together: outside the largest group of linked pairs, when
+  // that group holds most of the views (several small groups say only that
+  // the views are far apart, not which of them are off).
+  if (params.reseat_min_pair_cubes > 0) {
+    const std::vector<std::uint8_t> linked = largestLinkedGroup(overlap.pair, params.reseat_min_pair_cubes);
+    std::size_t in_group = 0;
+    for (std::size_t i = 0; i < n; ++i) in_group += !points[i].empty() && linked[i];
+    if (2 * in_group > held.size())
+      for (std::size_t i = 0; i < n; ++i)
+        if (!points[i].empty() && !linked[i]) apart[i] = 1;
+  }
+  return apart;
+}
+
+// After the pose graph: the views to seat again are those the model
+// alignment's last level left unplaced and those the graph left apart from
+// the others (view_overlap.hpp). Views apart together (linked to each
+// other, not to the rest) move as one rigid group, so that what agrees
+// within the group stays as the graph made it; any other view is a group
+// of its own. Each group is aligned again, through the same levels (the
+// first with its turned starts), against the views kept, where the graph
+// put them (they now hold the frame, view 0 included when it is
+// re-seated). The graph's pose competes at the finest level (alignView's
+// `also_from`): the better-scoring start wins, refined against the sharp
+// model either way, so a group already home stays home. A group still
+// apart after that is searched for: the two finest levels from a grid of
+// starts around its graph pose (`reseat_search_step`), the best final
+// score kept.
+void reseatViews(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
+                 const std::vector<std::vector<Eigen::Vector3d>>& reduced,
+                 const std::vector<std::vector<Eigen::Vector3d>>& normals, const std::vector<ScanParts>& parts,
+                 const std::vector<std::uint8_t>& placed, std::vector<Eigen::Isometry3d>& poses,
+                 SequenceRegistrationResult& result) {
   const std::size_t n = poses.size();
-  std::vector<std::size_t> unplaced;
-  std::size_t placed_count = 0;
+  const bool overlaps = params.reseat_min_shared_cubes > 0 || params.reseat_min_pair_cubes > 0;
+  CubeOverlap overlap;
+  std::vector<std::uint8_t> apart(n, 0);
+  if (overlaps) {
+    std::vector<std::vector<Eigen::Vector3d>> points(n);
+    for (std::size_t i = 0; i < n; ++i) points[i] = parts[i].model_points;
+    overlap = cubeOverlap(points, poses, params.reseat_overlap_cube);
+    apart = viewsApart(params, overlap, points);
+  }
+  std::vector<std::size_t> chosen;
+  std::size_t kept_count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (parts[i].ndt_source.empty()) continue;
-    if (placed[i]) ++placed_count;
-    else unplaced.push_back(i);
+    if (placed[i] && !apart[i]) ++kept_count;
+    else chosen.push_back(i);
   }
-  // The placed views must outnumber the others for their union to be the
+  // The views kept must outnumber the others for their union to be the
   // object; otherwise the graph's poses are all there is.
-  if (unplaced.empty() || placed_count <= unplaced.size()) return;
-  // One model per level, shared by every view re-seated (NdtTarget is
+  if (chosen.empty() || kept_count <= chosen.size()) return;
+  auto kept = [&](std::size_t j) { return placed[j] != 0 && apart[j] == 0; };
+  // The groups: the chosen views linked among themselves.
+  std::vector<std::vector<std::size_t>> groups;
+  if (overlaps && params.reseat_min_pair_cubes > 0)
+    groups = linkedGroups(overlap.pair, chosen, params.reseat_min_pair_cubes);
+  else
+    for (std::size_t i : chosen) groups.push_back({i});
+  // One model per level, shared by every group re-seated (NdtTarget is
   // read-only once built).
   std::vector<std::optional<ndt::NdtTarget>> targets(params.model_alignment_resolutions.size());
   tbb::parallel_for(std::size_t{0}, targets.size(), [&](std::size_t level) {
     const double resolution = params.model_alignment_resolutions[level];
-    const PointCloud others =
-        modelOfViews(params, resolution, parts, poses, [&placed](std::size_t j) { return placed[j] != 0; });
+    const PointCloud others = modelOfViews(params, resolution, parts, poses, kept);
     try {
       targets[level].emplace(others, alignmentLevel(params, resolution));
     } catch (const InputError&) {
@@ -691,27 +763,77 @@ void reseatUnplacedViews(const SequenceRegistrationParameters& params, const std
     }
   });
   if (!targets.back()) return;
-  std::vector<std::optional<ViewAlignment>> aligned_last(unplaced.size());
-  tbb::parallel_for(std::size_t{0}, unplaced.size(), [&](std::size_t u) {
-    const std::size_t i = unplaced[u];
-    const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
-    Eigen::Isometry3d pose = poses[i];
-    for (std::size_t level = 0; level < targets.size(); ++level) {
-      if (!targets[level]) continue;
-      const bool last = level + 1 == targets.size();
-      const std::optional<ViewAlignment> aligned =
-          alignView(params, *targets[level], params.model_alignment_resolutions[level], reported[i], reduced[i],
-                    normals[i], parts[i].ndt_source, centroid, pose,
-                    last ? std::optional<Eigen::Isometry3d>(poses[i]) : std::nullopt);
-      if (aligned) pose = aligned->pose;
-      if (last) aligned_last[u] = aligned;  // neither start scoring: the graph's pose stays
+  OccupiedCubes others(params.reseat_overlap_cube);
+  for (std::size_t j = 0; j < n; ++j)
+    if (kept(j)) others.add(parts[j].model_points, poses[j]);
+  const std::size_t levels = targets.size();
+  // The grid's starts: offsets of the group's points along the world axes,
+  // nearest first (ties in index order), so that the result does not
+  // depend on how the threads share them.
+  std::vector<Eigen::Vector3d> offsets;
+  const int reach = params.reseat_search_steps;
+  if (params.reseat_search_step > 0 && levels >= 2)
+    for (int a = -reach; a <= reach; ++a)
+      for (int b = -reach; b <= reach; ++b)
+        for (int c = -reach; c <= reach; ++c)
+          if (a || b || c) offsets.emplace_back(Eigen::Vector3d(a, b, c) * params.reseat_search_step);
+  std::stable_sort(offsets.begin(), offsets.end(),
+                   [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return x.norm() < y.norm(); });
+  std::vector<std::optional<ViewAlignment>> aligned_last(groups.size());
+  std::vector<std::uint8_t> searched(groups.size(), 0);
+  tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+    const std::vector<std::size_t>& group = groups[g];
+    const std::size_t first = group.front();
+    // The group's points in its first view's frame, where the graph put them.
+    std::vector<Eigen::Vector3d> source, cubes, points, point_normals;
+    for (std::size_t m : group) {
+      const Eigen::Isometry3d to_first = poses[first].inverse() * poses[m];
+      for (const Eigen::Vector3d& p : parts[m].ndt_source) source.push_back(to_first * p);
+      for (const Eigen::Vector3d& p : parts[m].model_points) cubes.push_back(to_first * p);
+      for (const Eigen::Vector3d& p : reduced[m]) points.push_back(to_first * p);
+      for (const Eigen::Vector3d& v : normals[m]) point_normals.push_back(to_first.linear() * v);
     }
+    if (point_normals.size() != points.size()) point_normals.clear();
+    const Eigen::Vector3d centroid = centroidOf(source);
+    auto align = [&](std::size_t level, const Eigen::Isometry3d& from,
+                     const std::optional<Eigen::Isometry3d>& also_from) -> std::optional<ViewAlignment> {
+      try {
+        return alignView(params, *targets[level], params.model_alignment_resolutions[level], reported[first], points,
+                         point_normals, source, centroid, from, also_from);
+      } catch (const InputError&) {
+        return std::nullopt;  // no point of the group near the model from there
+      }
+    };
+    Eigen::Isometry3d pose = poses[first];
+    for (std::size_t level = 0; level < levels; ++level) {
+      if (!targets[level]) continue;
+      const bool last = level + 1 == levels;
+      const std::optional<ViewAlignment> aligned =
+          align(level, pose, last ? std::optional<Eigen::Isometry3d>(poses[first]) : std::nullopt);
+      if (aligned) pose = aligned->pose;
+      if (last) aligned_last[g] = aligned;  // neither start scoring: the graph's pose stays
+    }
+    if (offsets.empty() || !targets[levels - 2]) return;
+    const Eigen::Isometry3d& walked = aligned_last[g] ? aligned_last[g]->pose : poses[first];
+    if (others.shareOf(cubes, walked) >= params.reseat_min_shared_cubes) return;
+    searched[g] = 1;
+    std::vector<std::optional<ViewAlignment>> found(offsets.size());
+    tbb::parallel_for(std::size_t{0}, offsets.size(), [&](std::size_t k) {
+      Eigen::Isometry3d start = poses[first];
+      start.pretranslate(offsets[k]);
+      const std::optional<ViewAlignment> coarse = align(levels - 2, start, std::nullopt);
+      if (coarse) found[k] = align(levels - 1, coarse->pose, std::nullopt);
+    });
+    for (std::optional<ViewAlignment>& f : found)
+      if (f && (!aligned_last[g] || f->score > aligned_last[g]->score)) aligned_last[g] = f;
   });
-  result.reseat_tried = unplaced.size();
-  for (std::size_t u = 0; u < unplaced.size(); ++u) {
-    if (!aligned_last[u]) continue;
-    poses[unplaced[u]] = aligned_last[u]->pose;
-    if (!aligned_last[u]->from_also) ++result.reseat_moved;
+  result.reseat_tried = chosen.size();
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (searched[g]) result.reseat_searched += groups[g].size();
+    if (!aligned_last[g]) continue;
+    const Eigen::Isometry3d correction = aligned_last[g]->pose * poses[groups[g].front()].inverse();
+    for (std::size_t m : groups[g]) poses[m] = correction * poses[m];
+    if (!aligned_last[g]->from_also) result.reseat_moved += groups[g].size();
   }
 }
 
@@ -1253,7 +1375,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   }
   if (params.reseat_unplaced_views && !params.incremental && n >= 3 && !params.model_alignment_resolutions.empty()) {
     const auto reseat_start = Clock::now();
-    reseatUnplacedViews(params, reported, s.reduced, s.normals, parts, placed, poses, result);
+    reseatViews(params, reported, s.reduced, s.normals, parts, placed, poses, result);
     result.stage_times.model_alignment_ms += msSince(reseat_start);
   }
   const auto joint_start = Clock::now();

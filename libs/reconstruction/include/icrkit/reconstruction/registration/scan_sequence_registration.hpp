@@ -221,14 +221,41 @@ struct SequenceRegistrationParameters {
   double model_alignment_max_translation = 0.08;
   double model_alignment_max_rotation = 0.25;
   /// After the pose graph, a view the model alignment's last level did
-  /// not keep is aligned again, through the same levels (and the turned
-  /// starts), against the views it did keep, now where the graph put
-  /// them: at the first level their union was blurred by every view's
-  /// error, now it is sharp. At the finest level the graph's pose competes
-  /// as a start: the better NDT score wins, refined against the placed
-  /// views either way. Skipped unless the placed views outnumber the
-  /// unplaced ones. Batch registration only.
+  /// not keep, or one the graph left apart from the others (below), is
+  /// aligned again, through the same levels (and the turned starts),
+  /// against the other views, now where the graph put them: at the first
+  /// level their union was blurred by every view's error, now it is sharp.
+  /// At the finest level the graph's pose competes as a start: the better
+  /// NDT score wins, refined against the others either way. Skipped unless
+  /// the views kept outnumber the others. Batch registration only.
   bool reseat_unplaced_views = true;
+  /// A view is apart when fewer than this share of the cubes of edge
+  /// `reseat_overlap_cube` (metres) its points occupy are occupied by
+  /// another view, and fewer than half the views' median share: a view
+  /// left a centimetre or more off crosses the others' surface along a
+  /// line (0.05-0.10 of its cubes on the real PrimeSense views, against
+  /// 0.64-0.99 in place). 0: only the unplaced views are re-seated. The
+  /// cube's edge is scaled like the ICP's kernel for a sensor sparser than
+  /// `icp_spacing_reference` (a 176 x 144 ToF camera: about 6 mm).
+  double reseat_min_shared_cubes = 0.3;
+  double reseat_overlap_cube = 0.004;
+  /// Views off together agree with each other, not with the rest: two
+  /// views are linked when they share at least this share of either one's
+  /// cubes, and when the largest linked group holds most of the views, the
+  /// views outside it are apart too (in place, neighbouring real views
+  /// share 0.3-0.8, Stanford's scans 0.35-0.8 with their nearest; groups
+  /// left apart 0.00-0.06 with the rest). Views re-seated that are linked
+  /// to each other move as one rigid group. 0: no groups.
+  double reseat_min_pair_cubes = 0.15;
+  /// A view (or group) still apart after its re-seat, sharing fewer than
+  /// `reseat_min_shared_cubes` of its cubes with the views kept, is
+  /// searched for: the two finest model-alignment levels from starts
+  /// shifted by multiples of this step (metres; up to `reseat_search_steps`
+  /// along each world axis, 124 starts at 2) around its graph pose, the
+  /// best final score kept. The finest levels' reach is about a centimetre,
+  /// the views left apart at 8 mm / 2 deg per view 1-5 cm off. 0: no search.
+  double reseat_search_step = 0.01;
+  int reseat_search_steps = 2;
   /// Registration as the scans arrive: add() aligns each view to the
   /// union of the earlier ones (the model alignment's levels, from its
   /// reported pose) and registers it with its best-overlapping earlier views
@@ -357,9 +384,12 @@ struct SequenceRegistrationResult {
   std::vector<std::size_t> model_alignment_accepted;
   /// Median and largest move of the views' points by the model alignment (metres).
   double model_alignment_median_move_m = 0.0, model_alignment_max_move_m = 0.0;
-  /// Views aligned again after the pose graph (`reseat_unplaced_views`)
-  /// and, of those, the ones whose re-seated start beat the graph's pose.
+  /// Views aligned again after the pose graph (`reseat_unplaced_views`:
+  /// unplaced or apart) and, of those, the ones whose re-seated start beat
+  /// the graph's pose.
   std::size_t reseat_tried = 0, reseat_moved = 0;
+  /// Of the views re-seated, those still apart that the grid searched for.
+  std::size_t reseat_searched = 0;
   int refinement_rounds = 0;  ///< multiway rounds run
   /// The joint refinement (`joint_refinement`): its iterations (0: not
   /// run), pairs of views with correspondences, and weighted RMS residual.
