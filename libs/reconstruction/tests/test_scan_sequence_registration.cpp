@@ -169,6 +169,32 @@ TEST(SequenceRegistration, ARoundCountBelowZeroIsRefusedByName) {
   }
 }
 
+TEST(SequenceRegistration, BadReseatParametersAreRefusedByName) {
+  auto refusal = [](void (*set)(SequenceRegistrationParameters&)) {
+    SequenceRegistrationParameters params;
+    set(params);
+    try {
+      params.validate();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // The search tests its result's cubes even with both share tests off.
+  EXPECT_NE(refusal([](SequenceRegistrationParameters& p) {
+              p.reseat_min_shared_cubes = p.reseat_min_pair_cubes = 0;
+              p.reseat_overlap_cube = 0;
+            }).find("reseat_overlap_cube"),
+            std::string::npos);
+  EXPECT_NE(refusal([](SequenceRegistrationParameters& p) { p.reseat_min_pair_cubes = 1.5; }).find("reseat_min_pair_cubes"),
+            std::string::npos);
+  EXPECT_NE(refusal([](SequenceRegistrationParameters& p) { p.reseat_search_steps = 9; }).find("reseat_search_steps"),
+            std::string::npos);
+  EXPECT_NE(refusal([](SequenceRegistrationParameters& p) { p.reseat_search_step = -0.01; }).find("reseat_search_step"),
+            std::string::npos);
+  EXPECT_EQ(refusal([](SequenceRegistrationParameters& p) { p.reseat_search_step = 0; }), "accepted");
+}
+
 TEST(SequenceRegistration, RecoversPerturbedPosesOfPartialViews) {
   const RingOfViews ring = ringOfViews();
   const std::vector<PointCloud>& scans = ring.scans;

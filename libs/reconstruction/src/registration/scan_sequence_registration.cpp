@@ -190,7 +190,7 @@ void SequenceRegistrationParameters::validate() const {
     throw InputError("reseat_min_shared_cubes", "", "expected a share between 0 and 1");
   if (!(p.reseat_min_pair_cubes >= 0 && p.reseat_min_pair_cubes <= 1))
     throw InputError("reseat_min_pair_cubes", "", "expected a share between 0 and 1");
-  if (p.reseat_min_shared_cubes > 0 || p.reseat_min_pair_cubes > 0)
+  if (p.reseat_min_shared_cubes > 0 || p.reseat_min_pair_cubes > 0 || p.reseat_search_step > 0)
     positive(p.reseat_overlap_cube, "reseat_overlap_cube");
   if (!(p.reseat_search_step >= 0) || !std::isfinite(p.reseat_search_step))
     throw InputError("reseat_search_step", "", "expected a step >= 0 (metres; 0: no search)");
@@ -671,10 +671,10 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   recordAlignmentMoves(parts, start, poses, result);
 }
 
-// The views the graph left apart from the others (view_overlap.hpp): few
-// of their cubes shared with any other view, or outside the largest group
-// of linked views when that group holds most of them. `points`: each
-// view's points (an empty view is never apart).
+// The views the graph left apart from the others (view_overlap.hpp): 1
+// for few of their cubes shared with any other view, 2 for outside the
+// largest group of linked views when that group holds most of them, 0
+// else. `points`: each view's points (an empty view is never apart).
 std::vector<std::uint8_t> viewsApart(const SequenceRegistrationParameters& params, const CubeOverlap& overlap,
                                      const std::vector<std::vector<Eigen::Vector3d>>& points) {
   const std::size_t n = points.size();
@@ -699,7 +699,7 @@ std::vector<std::uint8_t> viewsApart(const SequenceRegistrationParameters& param
     for (std::size_t i = 0; i < n; ++i) in_group += !points[i].empty() && linked[i];
     if (2 * in_group > held.size())
       for (std::size_t i = 0; i < n; ++i)
-        if (!points[i].empty() && !linked[i]) apart[i] = 1;
+        if (!points[i].empty() && !linked[i] && !apart[i]) apart[i] = 2;
   }
   return apart;
 }
@@ -744,12 +744,19 @@ void reseatViews(const SequenceRegistrationParameters& params, const std::vector
   // object; otherwise the graph's poses are all there is.
   if (chosen.empty() || kept_count <= chosen.size()) return;
   auto kept = [&](std::size_t j) { return placed[j] != 0 && apart[j] == 0; };
-  // The groups: the chosen views linked among themselves.
+  // The groups: the views outside the largest linked group, linked among
+  // themselves; every other view chosen (unplaced, or apart by its own
+  // share) is a group of its own, so that a view off is never tied to one
+  // in place.
   std::vector<std::vector<std::size_t>> groups;
-  if (overlaps && params.reseat_min_pair_cubes > 0)
-    groups = linkedGroups(overlap.pair, chosen, params.reseat_min_pair_cubes);
-  else
-    for (std::size_t i : chosen) groups.push_back({i});
+  std::vector<std::size_t> outside;
+  for (std::size_t i : chosen)
+    if (apart[i] == 2) outside.push_back(i);
+    else groups.push_back({i});
+  if (!outside.empty())
+    for (std::vector<std::size_t>& g : linkedGroups(overlap.pair, outside, params.reseat_min_pair_cubes))
+      groups.push_back(std::move(g));
+  std::sort(groups.begin(), groups.end());
   // One model per level, shared by every group re-seated (NdtTarget is
   // read-only once built).
   std::vector<std::optional<ndt::NdtTarget>> targets(params.model_alignment_resolutions.size());
@@ -791,9 +798,12 @@ void reseatViews(const SequenceRegistrationParameters& params, const std::vector
       for (const Eigen::Vector3d& p : parts[m].ndt_source) source.push_back(to_first * p);
       for (const Eigen::Vector3d& p : parts[m].model_points) cubes.push_back(to_first * p);
       for (const Eigen::Vector3d& p : reduced[m]) points.push_back(to_first * p);
-      for (const Eigen::Vector3d& v : normals[m]) point_normals.push_back(to_first.linear() * v);
+      // A member without normals adds zero ones, which observe nothing.
+      if (normals[m].size() == reduced[m].size())
+        for (const Eigen::Vector3d& v : normals[m]) point_normals.push_back(to_first.linear() * v);
+      else
+        point_normals.resize(points.size(), Eigen::Vector3d::Zero());
     }
-    if (point_normals.size() != points.size()) point_normals.clear();
     const Eigen::Vector3d centroid = centroidOf(source);
     auto align = [&](std::size_t level, const Eigen::Isometry3d& from,
                      const std::optional<Eigen::Isometry3d>& also_from) -> std::optional<ViewAlignment> {
@@ -832,6 +842,15 @@ void reseatViews(const SequenceRegistrationParameters& params, const std::vector
     if (searched[g]) result.reseat_searched += groups[g].size();
     if (!aligned_last[g]) continue;
     const Eigen::Isometry3d correction = aligned_last[g]->pose * poses[groups[g].front()].inverse();
+    // Each member within the model alignment's limits from its own
+    // reported pose (the group's were judged from its first view's).
+    const bool within = std::all_of(groups[g].begin(), groups[g].end(), [&](std::size_t m) {
+      const Eigen::Vector3d centroid = centroidOf(parts[m].ndt_source);
+      const Eigen::Isometry3d moved = correction * poses[m];
+      return (moved * centroid - reported[m] * centroid).norm() <= params.model_alignment_max_translation &&
+             rotationAngle(moved * reported[m].inverse()) <= params.model_alignment_max_rotation;
+    });
+    if (!within) continue;
     for (std::size_t m : groups[g]) poses[m] = correction * poses[m];
     if (!aligned_last[g]->from_also) result.reseat_moved += groups[g].size();
   }

@@ -234,7 +234,9 @@ struct SequenceRegistrationParameters {
   /// another view, and fewer than half the views' median share: a view
   /// left a centimetre or more off crosses the others' surface along a
   /// line (0.05-0.10 of its cubes on the real PrimeSense views, against
-  /// 0.64-0.99 in place). 0: only the unplaced views are re-seated. The
+  /// 0.64-0.99 in place); also the share below which a view or group still
+  /// counts as apart after its re-seat (the search). 0: no view is apart by
+  /// its own share, and none is searched for. The
   /// cube's edge is scaled like the ICP's kernel for a sensor sparser than
   /// `icp_spacing_reference` (a 176 x 144 ToF camera: about 6 mm).
   double reseat_min_shared_cubes = 0.3;
@@ -244,8 +246,10 @@ struct SequenceRegistrationParameters {
   /// cubes, and when the largest linked group holds most of the views, the
   /// views outside it are apart too (in place, neighbouring real views
   /// share 0.3-0.8, Stanford's scans 0.35-0.8 with their nearest; groups
-  /// left apart 0.00-0.06 with the rest). Views re-seated that are linked
-  /// to each other move as one rigid group. 0: no groups.
+  /// left apart 0.00-0.06 with the rest). Those of them linked to each
+  /// other move as one rigid group (each member within the alignment's
+  /// limits from its own reported pose); every other view re-seated moves
+  /// alone. 0: no groups.
   double reseat_min_pair_cubes = 0.15;
   /// A view (or group) still apart after its re-seat, sharing fewer than
   /// `reseat_min_shared_cubes` of its cubes with the views kept, is
