@@ -252,15 +252,9 @@ TEST(RealRecordingRegistration, TwoScansOffTogetherAreReseatedAsOutsideTheLinked
     "9.000000 0.238425352 0.588264114 0.089551077 -0.151915000 0.117343789 0.847334385 -0.495153217\n"
   );
   std::vector<Eigen::Isometry3d> starts;
-  for (std::string line; std::getline(text, line);) {
-    std::istringstream fields(line);
-    double stamp, x, y, z, qx, qy, qz, qw;
-    fields >> stamp >> x >> y >> z >> qx >> qy >> qz >> qw;
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = Eigen::Quaterniond(qw, qx, qy, qz).normalized().toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(x, y, z);
-    starts.push_back(pose);
-  }
+  std::size_t line_number = 0;
+  for (std::string line; std::getline(text, line);)
+    starts.push_back(parseTumLine(line, "seed 10's starts", ++line_number).pose);
   ASSERT_EQ(starts.size(), views.size());
   const TriangleMesh zipper = io::readTriangleMesh(dir + "/bun_zipper.ply");
   auto fusedDistanceMm = [&](const std::vector<Eigen::Isometry3d>& poses) {

@@ -442,12 +442,7 @@ namespace {
 
 // The 1 cm cubes a scan's points occupy at a pose, sorted (for overlaps).
 std::vector<std::int64_t> occupiedCubes(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose) {
-  std::vector<std::int64_t> keys;
-  keys.reserve(points.size());
-  for (const Eigen::Vector3d& local : points) keys.push_back(cubeKey(pose * local, 0.01));
-  std::sort(keys.begin(), keys.end());
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-  return keys;
+  return occupiedCubeKeys(points, pose, 0.01);
 }
 
 double overlapFraction(const std::vector<std::int64_t>& a, const std::vector<std::int64_t>& b) {
@@ -671,10 +666,14 @@ void alignToOthers(const SequenceRegistrationParameters& params, const std::vect
   recordAlignmentMoves(parts, start, poses, result);
 }
 
-// The views the graph left apart from the others (view_overlap.hpp): 1
-// for few of their cubes shared with any other view, 2 for outside the
-// largest group of linked views when that group holds most of them, 0
-// else. `points`: each view's points (an empty view is never apart).
+// Why a view counts as apart (viewsApart); 0: it does not.
+constexpr std::uint8_t kApartAlone = 1;          // few of its cubes shared with any other view
+constexpr std::uint8_t kOutsideLinkedGroup = 2;  // outside the largest group of linked views
+
+// The views the graph left apart from the others (view_overlap.hpp), and
+// why: few of their cubes shared with any other view, or outside the
+// largest group of linked views when that group holds most of them.
+// `points`: each view's points (an empty view is never apart).
 std::vector<std::uint8_t> viewsApart(const SequenceRegistrationParameters& params, const CubeOverlap& overlap,
                                      const std::vector<std::vector<Eigen::Vector3d>>& points) {
   const std::size_t n = points.size();
@@ -688,8 +687,8 @@ std::vector<std::uint8_t> viewsApart(const SequenceRegistrationParameters& param
   // Well below its peers too: a recording whose views barely overlap (a
   // few views far apart) has every share low.
   for (std::size_t i = 0; i < n; ++i)
-    apart[i] = !points[i].empty() && overlap.shared[i] < params.reseat_min_shared_cubes &&
-               overlap.shared[i] < 0.5 * median;
+    if (!points[i].empty() && overlap.shared[i] < params.reseat_min_shared_cubes && overlap.shared[i] < 0.5 * median)
+      apart[i] = kApartAlone;
   // Views off together: outside the largest group of linked pairs, when
   // that group holds most of the views (several small groups say only that
   // the views are far apart, not which of them are off).
@@ -699,7 +698,7 @@ std::vector<std::uint8_t> viewsApart(const SequenceRegistrationParameters& param
     for (std::size_t i = 0; i < n; ++i) in_group += !points[i].empty() && linked[i];
     if (2 * in_group > held.size())
       for (std::size_t i = 0; i < n; ++i)
-        if (!points[i].empty() && !linked[i] && !apart[i]) apart[i] = 2;
+        if (!points[i].empty() && !linked[i] && !apart[i]) apart[i] = kOutsideLinkedGroup;
   }
   return apart;
 }
@@ -751,7 +750,7 @@ void reseatViews(const SequenceRegistrationParameters& params, const std::vector
   std::vector<std::vector<std::size_t>> groups;
   std::vector<std::size_t> outside;
   for (std::size_t i : chosen)
-    if (apart[i] == 2) outside.push_back(i);
+    if (apart[i] == kOutsideLinkedGroup) outside.push_back(i);
     else groups.push_back({i});
   if (!outside.empty())
     for (std::vector<std::size_t>& g : linkedGroups(overlap.pair, outside, params.reseat_min_pair_cubes))
@@ -770,9 +769,6 @@ void reseatViews(const SequenceRegistrationParameters& params, const std::vector
     }
   });
   if (!targets.back()) return;
-  OccupiedCubes others(params.reseat_overlap_cube);
-  for (std::size_t j = 0; j < n; ++j)
-    if (kept(j)) others.add(parts[j].model_points, poses[j]);
   const std::size_t levels = targets.size();
   // The grid's starts: offsets of the group's points along the world axes,
   // nearest first (ties in index order), so that the result does not
@@ -786,6 +782,11 @@ void reseatViews(const SequenceRegistrationParameters& params, const std::vector
           if (a || b || c) offsets.emplace_back(Eigen::Vector3d(a, b, c) * params.reseat_search_step);
   std::stable_sort(offsets.begin(), offsets.end(),
                    [](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return x.norm() < y.norm(); });
+  // What a group still apart is measured against (only when it may be searched for).
+  OccupiedCubes others(params.reseat_overlap_cube);
+  if (!offsets.empty())
+    for (std::size_t j = 0; j < n; ++j)
+      if (kept(j)) others.add(parts[j].model_points, poses[j]);
   std::vector<std::optional<ViewAlignment>> aligned_last(groups.size());
   std::vector<std::uint8_t> searched(groups.size(), 0);
   tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {

@@ -8,10 +8,8 @@
 
 namespace icrkit::reconstruction {
 
-namespace {
-
-std::vector<std::int64_t> distinctKeys(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose,
-                                       double cube) {
+std::vector<std::int64_t> occupiedCubeKeys(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose,
+                                           double cube) {
   std::vector<std::int64_t> keys;
   keys.reserve(points.size());
   for (const Eigen::Vector3d& p : points) keys.push_back(cubeKey(pose * p, cube));
@@ -20,8 +18,6 @@ std::vector<std::int64_t> distinctKeys(const std::vector<Eigen::Vector3d>& point
   return keys;
 }
 
-}  // namespace
-
 CubeOverlap cubeOverlap(const std::vector<std::vector<Eigen::Vector3d>>& points,
                         const std::vector<Eigen::Isometry3d>& poses, double cube) {
   const std::size_t n = std::min(points.size(), poses.size());
@@ -29,7 +25,7 @@ CubeOverlap cubeOverlap(const std::vector<std::vector<Eigen::Vector3d>>& points,
   std::unordered_map<std::int64_t, std::vector<std::uint32_t>> views_in;
   std::vector<std::size_t> counts(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const std::vector<std::int64_t> keys = distinctKeys(points[i], poses[i], cube);
+    const std::vector<std::int64_t> keys = occupiedCubeKeys(points[i], poses[i], cube);
     counts[i] = keys.size();
     for (std::int64_t k : keys) views_in[k].push_back(static_cast<std::uint32_t>(i));
   }
@@ -99,7 +95,7 @@ void OccupiedCubes::add(const std::vector<Eigen::Vector3d>& points, const Eigen:
 }
 
 double OccupiedCubes::shareOf(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose) const {
-  const std::vector<std::int64_t> keys = distinctKeys(points, pose, cube_);
+  const std::vector<std::int64_t> keys = occupiedCubeKeys(points, pose, cube_);
   if (keys.empty()) return 0.0;
   std::size_t shared = 0;
   for (std::int64_t k : keys) shared += keys_.count(k);

@@ -23,6 +23,11 @@
 
 namespace icrkit::reconstruction {
 
+/// The keys (cube_key.hpp) of the cubes of edge `cube` (metres) that
+/// `points`, placed by `pose`, occupy: sorted, each once.
+std::vector<std::int64_t> occupiedCubeKeys(const std::vector<Eigen::Vector3d>& points, const Eigen::Isometry3d& pose,
+                                           double cube);
+
 struct CubeOverlap {
   /// Per view, the share (0-1) of the cubes its points occupy that some
   /// other view occupies as well; 0 for a view without points.
