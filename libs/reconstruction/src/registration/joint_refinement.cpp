@@ -4,7 +4,7 @@
 #include <icrkit/core/kd_tree.hpp>
 
 #include "cube_key.hpp"
-#include "miss_bounds.hpp"
+#include "nearest_tracker.hpp"
 #include "view_pairs.hpp"
 
 #include <Eigen/Cholesky>
@@ -67,8 +67,7 @@ struct ViewEquations {
   std::vector<std::size_t> partners;  // views j with correspondences
 };
 
-// Sources are searched this many pairing distances out (miss_bounds.hpp).
-constexpr double kMissReach = 2.0;
+using Tracker = NearestTracker<KdTree>;
 
 Eigen::Isometry3d worldStep(const Vector6d& x, const Eigen::Vector3d& centre) {
   // x = [t; theta], a rotation about `centre` then a translation (world).
@@ -159,9 +158,9 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
       Eigen::Vector3d::Constant(1.0 / (params.prior_sigma_rotation * params.prior_sigma_rotation));
   std::vector<Vector6d> moved(n, Vector6d::Zero());  // accumulated step per view, for its prior
 
-  // Per view, per partner view: its sources' bounds against the partner's
-  // targets (miss_bounds.hpp), made when the pair first comes near.
-  std::vector<std::vector<MissBounds>> bounds(n, std::vector<MissBounds>(n));
+  // Per view, per partner view: its sources' searches of the partner's
+  // targets (nearest_tracker.hpp), made when the pair first comes near.
+  std::vector<std::vector<Tracker>> trackers(n, std::vector<Tracker>(n));
   const std::size_t stages = params.max_distances.size();
   for (int it = 0; it < params.iterations; ++it) {
     const std::size_t stage = std::min(
@@ -184,21 +183,15 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
         Vector6d gi = Vector6d::Zero(), gj = Vector6d::Zero();
         double sq = 0.0, wsum = 0.0;
         std::size_t count = 0;
-        MissBounds& pair_bounds = bounds[i][j];
-        if (pair_bounds.size() != sources[i].size()) pair_bounds = MissBounds(sources[i].size());
-        const KdTree& tree = *trees[j];
-        auto search = [&tree](const Eigen::Vector3d& q, double radius) { return tree.nearestWithin(q, radius); };
-        for (std::size_t k = 0; k < sources[i].size(); ++k) {
-          const Eigen::Vector3d local = j_from_i * sources[i][k];
-          const long t = pair_bounds.nearestWithin(k, local, max_distance, kMissReach * max_distance,
-                                                   target_points[j], search);
-          if (t < 0) continue;
+        Tracker& tracker = trackers[i][j];
+        if (tracker.size() != sources[i].size()) tracker = Tracker(sources[i], Tracker::Parameters{});
+        auto correspond = [&](std::size_t k, const Eigen::Vector3d& local, long t) {
           const std::size_t tk = static_cast<std::size_t>(t);
           // Both normals face their own sensors: the two sides of a thin
           // part disagree in sign and stay apart.
           const Eigen::Vector3d& nj = target_normals[j][tk];
           const Eigen::Vector3d ni = j_from_i.linear() * source_normals[i][k];
-          if (nj.dot(ni) < params.min_normal_cosine) continue;
+          if (nj.dot(ni) < params.min_normal_cosine) return;
           const Eigen::Vector3d n_world = pj.linear() * nj;
           const Eigen::Vector3d p_world = pj * local;
           const Eigen::Vector3d q_world = pj * target_points[j][tk];
@@ -218,7 +211,8 @@ JointRefinementResult refineJointly(const std::vector<std::vector<Eigen::Vector3
           sq += w * r * r;
           wsum += w;
           ++count;
-        }
+        };
+        tracker.forEachNearest(sources[i], j_from_i, max_distance, target_points[j], *trees[j], correspond);
         if (count < params.min_pair_correspondences) continue;
         auto add = [&](std::size_t a, std::size_t b, const Matrix6d& m) {
           auto [at, fresh] = eq.blocks.try_emplace({a, b}, m);

@@ -4,7 +4,7 @@
 
 #include <icrkit/core/kd_tree.hpp>
 
-#include "miss_bounds.hpp"
+#include "nearest_tracker.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -28,9 +28,7 @@ Eigen::Isometry3d exponential(const Vector6d& x) {
   return t;
 }
 
-// Sources are searched this many pairing distances out, so that a miss
-// keeps them unsearched while the pose moves by up to the difference.
-constexpr double kMissReach = 2.0;
+using Tracker = NearestTracker<KdTree>;
 
 double tukeyWeight(double r, double width) {
   const double u = r / width;
@@ -48,20 +46,15 @@ struct Normal {
 
 // The normal equations of the point-to-plane residuals at `pose`.
 Normal accumulate(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target, const Eigen::Isometry3d& pose,
-                  double max_distance, double width, MissBounds& bounds) {
+                  double max_distance, double width, Tracker& tracker) {
   Normal eq;
   const auto& points = target.points();
   const auto& normals = target.normals();
-  auto search = [&](const Eigen::Vector3d& q, double radius) { return target.nearest(q, radius); };
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    const Eigen::Vector3d& s = source[i];
-    const Eigen::Vector3d p = pose * s;
-    const long k = bounds.nearestWithin(i, p, max_distance, kMissReach * max_distance, points, search);
-    if (k < 0) continue;
+  auto correspond = [&](std::size_t, const Eigen::Vector3d& p, long k) {
     const Eigen::Vector3d& n = normals[static_cast<std::size_t>(k)];
     const double r = n.dot(p - points[static_cast<std::size_t>(k)]);
     const double w = tukeyWeight(r, width);
-    if (!(w > 0)) continue;
+    if (!(w > 0)) return;
     Vector6d j;
     j.head<3>() = n;
     j.tail<3>() = p.cross(n);
@@ -70,7 +63,8 @@ Normal accumulate(const std::vector<Eigen::Vector3d>& source, const IcpTarget& t
     eq.weighted_sq += w * r * r;
     eq.weight += w;
     ++eq.count;
-  }
+  };
+  tracker.forEachNearest(source, pose, max_distance, points, target.tree(), correspond);
   return eq;
 }
 
@@ -102,6 +96,8 @@ long IcpTarget::nearest(const Eigen::Vector3d& query, double max_distance) const
   return impl_->tree.nearestWithin(query, max_distance);
 }
 
+const KdTree& IcpTarget::tree() const { return impl_->tree; }
+
 PointToPlaneIcpResult registerPointToPlane(const std::vector<Eigen::Vector3d>& source, const IcpTarget& target,
                                            const Eigen::Isometry3d& initial_guess,
                                            const PointToPlaneIcpParameters& params) {
@@ -111,12 +107,12 @@ PointToPlaneIcpResult registerPointToPlane(const std::vector<Eigen::Vector3d>& s
     result.failed = true;
     return result;
   }
-  MissBounds bounds(source.size());
+  Tracker tracker(source, Tracker::Parameters{});
   for (double max_distance : params.max_distances) {
     const double width = std::min(params.kernel_width, max_distance);
     result.converged = false;
     for (int it = 0; it < params.max_iterations; ++it) {
-      const Normal eq = accumulate(source, target, result.pose, max_distance, width, bounds);
+      const Normal eq = accumulate(source, target, result.pose, max_distance, width, tracker);
       if (eq.count < params.min_correspondences) {
         result.failed = true;
         return result;
@@ -140,7 +136,7 @@ PointToPlaneIcpResult registerPointToPlane(const std::vector<Eigen::Vector3d>& s
     }
   }
   const double last = params.max_distances.back();
-  const Normal eq = accumulate(source, target, result.pose, last, std::min(params.kernel_width, last), bounds);
+  const Normal eq = accumulate(source, target, result.pose, last, std::min(params.kernel_width, last), tracker);
   result.correspondences = eq.count;
   result.inlier_fraction = double(eq.count) / double(source.size());
   result.rms_m = eq.weight > 0 ? std::sqrt(eq.weighted_sq / eq.weight) : 0.0;

@@ -23,6 +23,10 @@
 #include <memory>
 #include <vector>
 
+namespace icrkit {
+class KdTree;
+}
+
 namespace icrkit::reconstruction {
 
 struct PointToPlaneIcpParameters {
@@ -57,6 +61,8 @@ public:
   const std::vector<Eigen::Vector3d>& normals() const;
   /// The nearest point within `max_distance`, or -1.
   long nearest(const Eigen::Vector3d& query, double max_distance) const;
+  /// The search tree over points().
+  const KdTree& tree() const;
 
 private:
   struct Impl;
