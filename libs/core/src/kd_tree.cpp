@@ -70,7 +70,13 @@ public:
   explicit NearestWithinSet(double bound_sq) : best_sq_(bound_sq) {}
   std::size_t size() const { return found_ ? 1 : 0; }
   bool full() const { return true; }
-  double worstDist() const { return best_sq_; }
+  // Once a point is found, one ulp beyond its distance: a point as near in
+  // another leaf still reaches addPoint (nanoflann admits only points
+  // strictly nearer than this), so ties go to the lowest index whatever
+  // the tree's shape.
+  double worstDist() const {
+    return found_ ? std::nextafter(best_sq_, std::numeric_limits<double>::infinity()) : best_sq_;
+  }
   bool addPoint(double dist_sq, std::size_t index) {
     if (dist_sq < best_sq_ || (found_ && dist_sq == best_sq_ && index < index_)) {
       best_sq_ = dist_sq;

@@ -240,5 +240,19 @@ TEST(KdTree, NearestWithinMatchesBruteForceAndHonoursTheBound) {
   EXPECT_EQ(KdTree(std::vector<Eigen::Vector3d>{}).nearestWithin(Eigen::Vector3d::Zero(), 1.0), -1);
 }
 
+TEST(KdTree, NearestWithinGivesTheLowestIndexAmongEquallyNearPointsInAnyLeaf) {
+  // Points 0..15 on a line; each midpoint is equally near two of them,
+  // which small leaves put apart.
+  std::vector<Eigen::Vector3d> points;
+  for (int x = 0; x < 16; ++x) points.emplace_back(x, 0, 0);
+  for (std::size_t leaf : {1u, 2u, 10u}) {
+    const KdTree tree(points, leaf);
+    for (int m = 0; m + 1 < 16; ++m)
+      EXPECT_EQ(tree.nearestWithin(Eigen::Vector3d(m + 0.5, 0, 0), 2.0), m) << "leaf " << leaf << " midpoint " << m;
+    // Beyond the bound's reach, and exactly at it: nothing.
+    EXPECT_EQ(tree.nearestWithin(Eigen::Vector3d(3.5, 0, 0), 0.5), -1) << "leaf " << leaf;
+  }
+}
+
 }  // namespace
 }  // namespace icrkit

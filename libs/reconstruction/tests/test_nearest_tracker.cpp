@@ -96,7 +96,9 @@ TEST(NearestTracker, VisitsWhatAFreshSearchFindsWhileTheSourcesMove) {
       EXPECT_GT(hits, calls / 20) << "seed " << seed;
       // Small steps: the tree is asked for a fraction of the sources, hits
       // included (large ones only check the answers).
-      if (scale == 1.0) EXPECT_LT(counting.nearest + counting.within, calls / 2) << "seed " << seed;
+      if (scale == 1.0) {
+        EXPECT_LT(counting.nearest + counting.within, calls / 2) << "seed " << seed;
+      }
     }
   }
 }
@@ -126,6 +128,41 @@ TEST(NearestTracker, ASourceOnATargetIsFoundAndOneBeyondReachIsNot) {
   // Exactly at the pairing distance: not within it (strict, as the tree).
   EXPECT_EQ(tracker.nearestWithin(0, Eigen::Vector3d(0.0, 0.0, 0.0015), 0.0015, targets, tree, lower),
             tree.nearestWithin(Eigen::Vector3d(0.0, 0.0, 0.0015), 0.0015));
+}
+
+TEST(NearestTracker, ATieBetweenLeavesGivesWhatTheTreeGives) {
+  // Targets 0..15 on a line; the source first found 8 from 7.6, then sits
+  // at 7.5, equally near 7 and 8, which the tree's leaves hold apart.
+  std::vector<Eigen::Vector3d> targets;
+  for (int x = 0; x < 16; ++x) targets.emplace_back(x, 0, 0);
+  const KdTree tree(targets);
+  const std::vector<Eigen::Vector3d> sources{{0, 0, 0}};
+  for (int m = 0; m + 1 < 16; ++m) {
+    NearestTracker<KdTree> tracker(sources, {});
+    Eigen::Isometry3d placement = Eigen::Isometry3d::Identity();
+    long found = -2;
+    auto visit = [&](std::size_t, const Eigen::Vector3d&, long t) { found = t; };
+    placement.translation() = Eigen::Vector3d(m + 0.6, 0, 0);
+    tracker.forEachNearest(sources, placement, 2.0, targets, tree, visit);
+    EXPECT_EQ(found, m + 1);
+    placement.translation() = Eigen::Vector3d(m + 0.5, 0, 0);
+    tracker.forEachNearest(sources, placement, 2.0, targets, tree, visit);
+    EXPECT_EQ(found, tree.nearestWithin(placement.translation(), 2.0)) << "midpoint " << m;
+    EXPECT_EQ(found, m);
+  }
+}
+
+TEST(NearestTracker, ANonPositivePairingDistanceFindsNothingAndLeavesTheBounds) {
+  const std::vector<Eigen::Vector3d> targets{{5, 0, 0}};
+  const KdTree tree(targets);
+  const std::vector<Eigen::Vector3d> sources{{5, 0, 0}};
+  NearestTracker<KdTree> tracker(sources, {});
+  long found = -2;
+  auto visit = [&](std::size_t, const Eigen::Vector3d&, long t) { found = t; };
+  tracker.forEachNearest(sources, Eigen::Isometry3d::Identity(), -1.0, targets, tree, visit);
+  EXPECT_EQ(found, -2);
+  tracker.forEachNearest(sources, Eigen::Isometry3d::Identity(), 1.0, targets, tree, visit);
+  EXPECT_EQ(found, 0);
 }
 
 TEST(NearestTracker, EquallyNearTargetsGiveTheLowestIndexAsTheTreeDoes) {

@@ -77,7 +77,11 @@ public:
   void forEachNearest(const std::vector<Eigen::Vector3d>& sources, const Eigen::Isometry3d& placement,
                       double max_distance, const std::vector<Eigen::Vector3d>& targets, const Tree& tree,
                       const Visit& visit) {
+    if (!(max_distance > 0)) return;  // nothing is within; also rejects NaN
+    // Stored first, so that the blocks never name a placement that is not
+    // there (`visit` may throw); dropped below when no block used it.
     const auto placement_index = static_cast<std::uint32_t>(placements_.size());
+    placements_.push_back(placement);
     bool placement_used = false;
     const double reach = std::max(params_.reach, 1.0) * max_distance;
     for (std::size_t b = 0; b < blocks_.size(); ++b) {
@@ -113,7 +117,7 @@ public:
       block.lower = lower;
       block.found = found_any;
     }
-    if (placement_used) placements_.push_back(placement);
+    if (!placement_used) placements_.pop_back();
     if (pool_.size() > 4096 && pool_.size() > 3 * live_) compact();
   }
 
@@ -122,6 +126,8 @@ public:
   /// to a lower bound on the query's distance to every target.
   long nearestWithin(std::size_t k, const Eigen::Vector3d& query, double max_distance,
                      const std::vector<Eigen::Vector3d>& targets, const Tree& tree, double& lower) {
+    lower = 0.0;
+    if (!(max_distance > 0)) return -1;  // nothing is within; the bounds stay as they were
     // Floats halve the memory (a joint refinement of 36 views keeps up to
     // 1,260 x 3,000 of them). Their rounding, under 1.1e-7 of the largest
     // coordinate in the stored point and 6e-8 of a stored distance, is
