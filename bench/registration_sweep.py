@@ -62,6 +62,16 @@ def link_views(source_dir, indices, target_dir, truth, truths_extra=None):
         write_tum(os.path.join(target_dir, name), [f"{k:.6f}" for k in range(len(indices))], [poses[i] for i in indices])
 
 
+# Simulated recordings (36 views): the two of the issue's sweep, and the
+# other objects of the nine datasets for checks across object sizes.
+SIMULATED = {
+    "sim_paper_cup": ("paper_cup", "kinect"), "sim_toy2": ("wooden_toy_2", "sr4000"),
+    "sim_cup": ("cup", "kinect"), "sim_bottle": ("bottle", "kinect"), "sim_coffee_pot": ("coffee_pot", "kinect"),
+    "sim_toy1": ("wooden_toy_1", "kinect"), "sim_toy2_kinect": ("wooden_toy_2", "kinect"),
+    "sim_cup_sr4000": ("cup", "sr4000"), "sim_toy1_sr4000": ("wooden_toy_1", "sr4000"),
+}
+
+
 def prepare(name, build, work, sim_seed):
     """WORK/prep/NAME/{view_NNN.ply, truth.txt[, refined.txt], reference}."""
     icrkit = os.path.join(build, "apps", "icrkit", "icrkit")
@@ -115,7 +125,9 @@ def prepare(name, build, work, sim_seed):
                   [conf[s] @ sensor for s in order])
         reference = os.path.join(data, "stanford-bunny", "bun_zipper.ply")
     elif name.startswith("sim_"):
-        obj, sensor = {"sim_paper_cup": ("paper_cup", "kinect"), "sim_toy2": ("wooden_toy_2", "sr4000")}[name]
+        if name not in SIMULATED:
+            raise SystemExit(f"unknown dataset {name} (simulated: {', '.join(sorted(SIMULATED))})")
+        obj, sensor = SIMULATED[name]
         sim = os.path.join(work, "prep", name + ".sim")
         if not os.path.exists(os.path.join(sim, "manifest.json")):
             run([icrkit, "simulate", "--object", obj, "--sensor", sensor, "--seed", str(sim_seed), "-o", sim, "-q"])
