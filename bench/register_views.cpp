@@ -99,7 +99,6 @@ int main(int argc, char** argv) {
       else if (name == "joint_incidence") r.joint.target_max_incidence = value;
       else if (name == "joint_iterations") r.joint.iterations = int(value);
       else if (name == "joint_sources") r.joint.max_source_points = static_cast<std::size_t>(value);
-      else if (name == "joint_source_voxel") r.joint.source_voxel_size = value;
       else if (name == "joint_normal_radius") r.joint_normal_radius = value;
       else if (name == "joint_min_linked_pair_ratio") r.joint_min_linked_pair_ratio = value;
       else throw InputError(name, "", "not a parameter this tool sets");
