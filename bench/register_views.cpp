@@ -101,6 +101,7 @@ int main(int argc, char** argv) {
       else if (name == "joint_sources") r.joint.max_source_points = static_cast<std::size_t>(value);
       else if (name == "joint_normal_radius") r.joint_normal_radius = value;
       else if (name == "joint_min_linked_pair_ratio") r.joint_min_linked_pair_ratio = value;
+      else if (name == "max_cell_to_spread") r.model_alignment_max_cell_to_spread = value;
       else throw InputError(name, "", "not a parameter this tool sets");
     }
     const auto start = std::chrono::steady_clock::now();
@@ -129,6 +130,8 @@ int main(int argc, char** argv) {
                                 {"joint_rejection", result.joint_rejection},
                                 {"pairs_rejected", result.pairs.size() - accepted},
                                 {"model_alignment_accepted", result.model_alignment_accepted},
+                                {"model_alignment_levels", result.model_alignment_resolutions},
+                                {"model_spread_mm", result.model_spread_m * 1e3},
                                 {"reseat_tried", result.reseat_tried},
                                 {"reseat_moved", result.reseat_moved},
                                 {"reseat_searched", result.reseat_searched},

@@ -98,6 +98,15 @@ void checkPrimeSenseBunny(bool incremental) {
   // errors, far beyond the arm defaults (0.5 mm / 0.057 deg).
   EXPECT_GT(r.registration.measured_odometry_sigma_translation_m, 2e-3);
   EXPECT_GT(r.registration.odometry_sigma_translation_m, 2e-3);
+  // The bunny's size as its views see it (45.5 mm; bun_zipper's vertices,
+  // the whole bunny, 48 mm): every level of the model alignment is kept,
+  // the 6 cm one included.
+  if (!incremental) {
+    EXPECT_NEAR(r.registration.model_spread_m, 0.045, 0.004);
+    EXPECT_EQ(r.registration.model_alignment_resolutions, params.registration.model_alignment_resolutions);
+  } else {
+    EXPECT_EQ(r.registration.model_spread_m, 0.0);
+  }
 }
 
 TEST(RealRecordingRegistration, PrimeSenseBunnyFromItsReportedPoses) { checkPrimeSenseBunny(false); }

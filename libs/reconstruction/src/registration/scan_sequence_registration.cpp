@@ -8,6 +8,7 @@
 
 #include "cube_key.hpp"
 #include "view_pairs.hpp"
+#include "model_alignment_levels.hpp"
 #include "registration_observability.hpp"
 #include "view_overlap.hpp"
 
@@ -1088,20 +1089,30 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     s.target.reset();
   }
   const auto start = Clock::now();
-  const SequenceRegistrationParameters& params = s.params;
   const std::size_t n = s.records.size();
   SequenceRegistrationResult result;
 
   std::vector<ScanParts> built;
-  if (!params.incremental) {
+  if (!s.params.incremental) {
     built.resize(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) { s.prepare(i, built[i]); });
   }
-  result.stage_times.prepare_ms = msSince(start);
-  const std::vector<ScanParts>& parts = params.incremental ? s.parts : built;
+  const std::vector<ScanParts>& parts = s.params.incremental ? s.parts : built;
 
   std::vector<Eigen::Isometry3d> poses;
   for (const ScanRegistrationRecord& r : s.records) poses.push_back(r.model_pose);
+  // The model alignment's levels for this object (batch: all its views are here).
+  SequenceRegistrationParameters chosen = s.params;
+  if (!s.params.incremental && !s.params.model_alignment_resolutions.empty()) {
+    std::vector<std::vector<Eigen::Vector3d>> cubes;
+    for (const ScanParts& p : parts) cubes.push_back(p.model_points);
+    result.model_spread_m = medianViewSpread(cubes);
+    chosen.model_alignment_resolutions = modelAlignmentLevels(
+        s.params.model_alignment_resolutions, s.params.model_alignment_max_cell_to_spread, result.model_spread_m);
+  }
+  const SequenceRegistrationParameters& params = chosen;
+  result.model_alignment_resolutions = params.model_alignment_resolutions;
+  result.stage_times.prepare_ms = msSince(start);
   double alignment_sigma_t = 0.0, alignment_sigma_r = 0.0;  // per view, robust, from the model alignment
   if (params.incremental && !params.model_alignment_resolutions.empty()) poses = s.aligned;
   // Views the model alignment's last level placed (the batch path only).
