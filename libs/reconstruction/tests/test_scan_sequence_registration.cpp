@@ -20,6 +20,7 @@
 #include <array>
 #include <map>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -193,6 +194,22 @@ TEST(SequenceRegistration, BadReseatParametersAreRefusedByName) {
   EXPECT_NE(refusal([](SequenceRegistrationParameters& p) { p.reseat_search_step = -0.01; }).find("reseat_search_step"),
             std::string::npos);
   EXPECT_EQ(refusal([](SequenceRegistrationParameters& p) { p.reseat_search_step = 0; }), "accepted");
+}
+
+TEST(SequenceRegistration, ABadLevelRatioIsRefusedByName) {
+  for (double ratio : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    SequenceRegistrationParameters params;
+    params.model_alignment_max_cell_to_spread = ratio;
+    try {
+      params.validate();
+      FAIL() << "ratio " << ratio << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("model_alignment_max_cell_to_spread"), std::string::npos) << e.what();
+    }
+  }
+  SequenceRegistrationParameters every_level;
+  every_level.model_alignment_max_cell_to_spread = 0;
+  EXPECT_NO_THROW(every_level.validate());
 }
 
 TEST(SequenceRegistration, RecoversPerturbedPosesOfPartialViews) {

@@ -200,6 +200,8 @@ void SequenceRegistrationParameters::validate() const {
     throw InputError("reseat_search_steps", "", "expected 1 to 5 steps along each axis");
   if (p.refinement_rounds < 0)
     throw InputError("refinement_rounds", "", "expected 0 (automatic) or a positive number of rounds");
+  if (!(p.model_alignment_max_cell_to_spread >= 0) || !std::isfinite(p.model_alignment_max_cell_to_spread))
+    throw InputError("model_alignment_max_cell_to_spread", "", "expected a ratio >= 0 (0: every level)");
 }
 
 struct SequenceRegistration::Impl {
