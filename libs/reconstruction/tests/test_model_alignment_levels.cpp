@@ -30,15 +30,16 @@ TEST(ModelAlignmentLevels, TheObjectsSpreadIsTheMedianViewsAndIgnoresWhereTheVie
   };
   const std::vector<std::vector<Eigen::Vector3d>> views{
       line(0.02, {0, 0, 1}), line(0.10, {0.3, 0, 1}), line(0.04, {-2, 1, 1}), {Eigen::Vector3d(1, 1, 1)}, {}};
-  EXPECT_NEAR(medianViewSpread(views), 0.04 / std::sqrt(12.0), 1e-4);
+  EXPECT_NEAR(medianViewSpread({&views[0], &views[1], &views[2], &views[3], &views[4]}), 0.04 / std::sqrt(12.0), 1e-4);
   // Two views: the mean of the two.
-  EXPECT_NEAR(medianViewSpread({views[0], views[2]}), 0.03 / std::sqrt(12.0), 1e-4);
+  EXPECT_NEAR(medianViewSpread({&views[0], &views[2]}), 0.03 / std::sqrt(12.0), 1e-4);
 }
 
 TEST(ModelAlignmentLevels, TooFewPointsHaveNoSpread) {
   EXPECT_EQ(largestSpread({Eigen::Vector3d(1, 2, 3)}), 0.0);
   EXPECT_EQ(largestSpread({}), 0.0);
-  EXPECT_EQ(medianViewSpread({{Eigen::Vector3d(1, 2, 3)}, {}}), 0.0);
+  const std::vector<Eigen::Vector3d> one{Eigen::Vector3d(1, 2, 3)}, none;
+  EXPECT_EQ(medianViewSpread({&one, &none}), 0.0);
 }
 
 TEST(ModelAlignmentLevels, CellsTooLargeForTheObjectAreLeftOutButNeverTheFinest) {

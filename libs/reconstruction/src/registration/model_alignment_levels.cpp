@@ -22,10 +22,10 @@ double largestSpread(const std::vector<Eigen::Vector3d>& points) {
   return std::sqrt(std::max(solver.eigenvalues()(2), 0.0));
 }
 
-double medianViewSpread(const std::vector<std::vector<Eigen::Vector3d>>& views) {
+double medianViewSpread(const std::vector<const std::vector<Eigen::Vector3d>*>& views) {
   std::vector<double> spreads;
-  for (const std::vector<Eigen::Vector3d>& v : views)
-    if (v.size() >= 2) spreads.push_back(largestSpread(v));
+  for (const std::vector<Eigen::Vector3d>* v : views)
+    if (v->size() >= 2) spreads.push_back(largestSpread(*v));
   if (spreads.empty()) return 0.0;
   std::sort(spreads.begin(), spreads.end());
   const std::size_t m = spreads.size() / 2;

@@ -13,8 +13,9 @@ double largestSpread(const std::vector<Eigen::Vector3d>& points);
 
 /// The object's size as the views see it, unaffected by their poses: the
 /// median over the views (those with two points or more) of each one's
-/// largestSpread, in its own frame. 0 when no view has two points.
-double medianViewSpread(const std::vector<std::vector<Eigen::Vector3d>>& views);
+/// largestSpread, in its own frame. 0 when no view has two points. The
+/// views are pointed to, not copied (the registration's own point sets).
+double medianViewSpread(const std::vector<const std::vector<Eigen::Vector3d>*>& views);
 
 /// The levels of `resolutions` (coarse to fine, metres) whose cell edge is
 /// at most `max_cell_to_spread` times `spread`, in order; the finest level

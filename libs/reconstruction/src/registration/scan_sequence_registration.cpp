@@ -1106,8 +1106,8 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   // The model alignment's levels for this object (batch: all its views are here).
   SequenceRegistrationParameters chosen = s.params;
   if (!s.params.incremental && !s.params.model_alignment_resolutions.empty()) {
-    std::vector<std::vector<Eigen::Vector3d>> cubes;
-    for (const ScanParts& p : parts) cubes.push_back(p.model_points);
+    std::vector<const std::vector<Eigen::Vector3d>*> cubes;
+    for (const ScanParts& p : parts) cubes.push_back(&p.model_points);
     result.model_spread_m = medianViewSpread(cubes);
     chosen.model_alignment_resolutions = modelAlignmentLevels(
         s.params.model_alignment_resolutions, s.params.model_alignment_max_cell_to_spread, result.model_spread_m);
