@@ -212,6 +212,22 @@ TEST(SequenceRegistration, ABadLevelRatioIsRefusedByName) {
   EXPECT_NO_THROW(every_level.validate());
 }
 
+TEST(SequenceRegistration, ABadNumberOfReseatPassesIsRefusedByName) {
+  for (int passes : {0, -1, 11}) {
+    SequenceRegistrationParameters params;
+    params.reseat_passes = passes;
+    try {
+      params.validate();
+      FAIL() << passes << " passes were accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("reseat_passes"), std::string::npos) << e.what();
+    }
+  }
+  SequenceRegistrationParameters one;
+  one.reseat_passes = 1;
+  EXPECT_NO_THROW(one.validate());
+}
+
 TEST(SequenceRegistration, RecoversPerturbedPosesOfPartialViews) {
   const RingOfViews ring = ringOfViews();
   const std::vector<PointCloud>& scans = ring.scans;

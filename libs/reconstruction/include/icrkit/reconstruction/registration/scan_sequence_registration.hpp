@@ -177,6 +177,14 @@ struct SequenceRegistrationParameters {
   /// registered in add(), each view aligned to the earlier ones only.
   /// With a coarser last alignment level than 1 cm, set it to true.
   bool pair_ndt_for_placed_views = false;
+  /// A first-round pair of placed views that the ICP alone rejects for
+  /// too little overlap (its views beyond the ICP's reach), and that would
+  /// join views the accepted pairs leave apart (two groups the model
+  /// alignment placed each against itself, a centimetre apart), is
+  /// registered again with the coarse start (the pair's NDT, as
+  /// `pair_ndt_for_placed_views`). Costs nothing where the accepted pairs
+  /// link every view. Batch registration only.
+  bool pair_ndt_retry_rejected = true;
   std::vector<double> icp_wide_distances{0.02, 0.01};
   /// With the ICP after it, a pair's NDT only has to reach the ICP's basin:
   /// its source is reduced to cubes of this edge (metres).
@@ -275,6 +283,10 @@ struct SequenceRegistrationParameters {
   /// the views left apart at 8 mm / 2 deg per view 1-5 cm off. 0: no search.
   double reseat_search_step = 0.01;
   int reseat_search_steps = 2;
+  /// Passes of the re-seat: a group no start of a pass seats is aligned
+  /// again in the next against the views kept and the groups seated so
+  /// far (only when the pass seated some). 1: one pass.
+  int reseat_passes = 2;
   /// Registration as the scans arrive: add() aligns each view to the
   /// union of the earlier ones (the model alignment's levels, from its
   /// reported pose) and registers it with its best-overlapping earlier views
@@ -377,6 +389,9 @@ struct PairRegistrationRecord {
   double icp_inlier_fraction = 0.0;
   double icp_rms_m = 0.0;
   int round = 0;  ///< multiway round of this registration (0-based)
+  /// Rejected from the ICP's start, registered again with the coarse
+  /// start (`SequenceRegistrationParameters::pair_ndt_retry_rejected`).
+  bool retried_coarse = false;
   /// The registered pose of scan `to` in scan `from`'s frame (when accepted).
   Eigen::Isometry3d measurement = Eigen::Isometry3d::Identity();
   /// How far the pair's relative pose is from the scan-to-model poses'.
@@ -412,6 +427,11 @@ struct SequenceRegistrationResult {
   /// unplaced or apart) and, of those, the ones whose re-seated start beat
   /// the graph's pose.
   std::size_t reseat_tried = 0, reseat_moved = 0;
+  /// First-round pairs of placed views registered again with the coarse
+  /// start after the ICP alone matched too little of them, between views
+  /// the accepted pairs left apart (`pair_ndt_retry_rejected`), and of
+  /// those the ones then accepted.
+  std::size_t pairs_retried_coarse = 0, pairs_retried_accepted = 0;
   /// Of the views re-seated, those still apart that the grid searched for.
   std::size_t reseat_searched = 0;
   int refinement_rounds = 0;  ///< multiway rounds run
