@@ -734,7 +734,8 @@ std::vector<std::uint8_t> viewsApart(const SequenceRegistrationParameters& param
 // model either way, so a group already home stays home. A group still
 // apart after that is searched for: the two finest levels from a grid of
 // starts around its graph pose (`reseat_search_step`), the best final
-// score kept.
+// score kept. A group left unseated is tried again in a later pass
+// (`reseat_passes`) against the model grown by the groups seated.
 void reseatViews(const SequenceRegistrationParameters& params, const std::vector<Eigen::Isometry3d>& reported,
                  const std::vector<std::vector<Eigen::Vector3d>>& reduced,
                  const std::vector<std::vector<Eigen::Vector3d>>& normals, const std::vector<ScanParts>& parts,
