@@ -196,16 +196,22 @@ TEST(SequenceRegistration, BadReseatParametersAreRefusedByName) {
   EXPECT_EQ(refusal([](SequenceRegistrationParameters& p) { p.reseat_search_step = 0; }), "accepted");
 }
 
+// validate() refuses `params`, naming `field`.
+void expectRefusedByName(const SequenceRegistrationParameters& params, const std::string& field,
+                         const std::string& what) {
+  try {
+    params.validate();
+    FAIL() << what << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
 TEST(SequenceRegistration, ABadLevelRatioIsRefusedByName) {
   for (double ratio : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
     SequenceRegistrationParameters params;
     params.model_alignment_max_cell_to_spread = ratio;
-    try {
-      params.validate();
-      FAIL() << "ratio " << ratio << " was accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("model_alignment_max_cell_to_spread"), std::string::npos) << e.what();
-    }
+    expectRefusedByName(params, "model_alignment_max_cell_to_spread", "ratio " + std::to_string(ratio));
   }
   SequenceRegistrationParameters every_level;
   every_level.model_alignment_max_cell_to_spread = 0;
@@ -216,12 +222,7 @@ TEST(SequenceRegistration, ABadNumberOfReseatPassesIsRefusedByName) {
   for (int passes : {0, -1, 11}) {
     SequenceRegistrationParameters params;
     params.reseat_passes = passes;
-    try {
-      params.validate();
-      FAIL() << passes << " passes were accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find("reseat_passes"), std::string::npos) << e.what();
-    }
+    expectRefusedByName(params, "reseat_passes", std::to_string(passes) + " passes");
   }
   SequenceRegistrationParameters one;
   one.reseat_passes = 1;

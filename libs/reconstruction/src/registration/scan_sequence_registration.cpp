@@ -1,5 +1,6 @@
 #include <icrkit/reconstruction/registration/scan_sequence_registration.hpp>
 
+#include <icrkit/core/disjoint_sets.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
@@ -978,19 +979,10 @@ void SequenceRegistration::Impl::retryBridgingPairs(const std::vector<ScanParts>
                                                     std::vector<PairRegistrationRecord>& pairs,
                                                     std::vector<Matrix6d>& hessians, std::vector<Matrix6d>& projectors,
                                                     SequenceRegistrationResult& result) const {
-  // The views the accepted pairs link, as components (union-find, the
-  // smaller index the root).
-  std::vector<std::size_t> root(poses.size());
-  for (std::size_t i = 0; i < root.size(); ++i) root[i] = i;
-  auto find = [&](std::size_t i) {
-    while (root[i] != i) i = root[i] = root[root[i]];
-    return i;
-  };
+  // The views the accepted pairs link, as components.
+  DisjointSets components(poses.size());
   for (const PairRegistrationRecord& pair : pairs)
-    if (pair.accepted) {
-      const std::size_t a = find(pair.from), b = find(pair.to);
-      root[std::max(a, b)] = std::min(a, b);
-    }
+    if (pair.accepted) components.unite(std::uint32_t(pair.from), std::uint32_t(pair.to));
   // Only a pair between two components, rejected because the ICP matched
   // too little of it (its views beyond the ICP's reach), is worth the
   // NDT's wider basin. Elsewhere the graph holds the views together
@@ -1002,7 +994,8 @@ void SequenceRegistration::Impl::retryBridgingPairs(const std::vector<ScanParts>
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const PairRegistrationRecord& pair = pairs[k];
     if (!pair.accepted && placed[pair.from] && placed[pair.to] &&
-        pair.icp_inlier_fraction < params.min_icp_inlier_fraction && find(pair.from) != find(pair.to))
+        pair.icp_inlier_fraction < params.min_icp_inlier_fraction &&
+        components.find(std::uint32_t(pair.from)) != components.find(std::uint32_t(pair.to)))
       bridging.push_back(k);
   }
   tbb::parallel_for(std::size_t{0}, bridging.size(), [&](std::size_t q) {
