@@ -93,6 +93,8 @@ int main(int argc, char** argv) {
       else if (name == "pair_ndt_placed") r.pair_ndt_for_placed_views = value != 0;
       else if (name == "pair_retry") r.pair_ndt_retry_rejected = value != 0;
       else if (name == "reseat_passes") r.reseat_passes = int(value);
+      else if (name == "unsettled_pair_move") r.unsettled_pair_move = value;
+      else if (name == "max_unsettled_rounds") r.max_unsettled_rounds = int(value);
       else if (name == "max_icp_points") r.icp_max_source_points = static_cast<std::size_t>(value);
       else if (name == "min_normalized_score") r.min_normalized_score = value;
       else if (name == "model_max_translation") r.model_alignment_max_translation = value;
@@ -134,6 +136,9 @@ int main(int argc, char** argv) {
                                 {"model_alignment_accepted", result.model_alignment_accepted},
                                 {"model_alignment_levels", result.model_alignment_resolutions},
                                 {"model_spread_mm", result.model_spread_m * 1e3},
+                                {"refinement_rounds", result.refinement_rounds},
+                                {"unsettled_pairs_registered", result.unsettled_pairs_registered},
+                                {"unsettled_pairs_accepted", result.unsettled_pairs_accepted},
                                 {"pairs_retried_coarse", result.pairs_retried_coarse},
                                 {"pairs_retried_accepted", result.pairs_retried_accepted},
                                 {"reseat_tried", result.reseat_tried},

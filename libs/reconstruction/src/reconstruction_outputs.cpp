@@ -118,6 +118,8 @@ Json registrationJson(const ReconstructionResult& result, const ReconstructionPa
           {"scan_to_model", params.registration.scan_to_model},
           {"as_scans_arrive", params.registration.incremental},
           {"multiway_rounds", r.refinement_rounds},
+          {"unsettled_pairs_registered", r.unsettled_pairs_registered},
+          {"unsettled_pairs_accepted", r.unsettled_pairs_accepted},
           {"pairs_retried_coarse", r.pairs_retried_coarse},
           {"pairs_retried_accepted", r.pairs_retried_accepted},
           {"model_alignment",

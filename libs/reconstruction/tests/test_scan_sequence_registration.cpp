@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <random>
 #include <sstream>
 
@@ -207,26 +208,42 @@ void expectRefusedByName(const SequenceRegistrationParameters& params, const std
   }
 }
 
-TEST(SequenceRegistration, ABadLevelRatioIsRefusedByName) {
-  for (double ratio : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+// Each of `values` set by `set` on the defaults is refused, naming `field`.
+template <typename T, typename Set>
+void expectEachRefusedByName(std::initializer_list<T> values, const std::string& field, Set set) {
+  for (const T value : values) {
     SequenceRegistrationParameters params;
-    params.model_alignment_max_cell_to_spread = ratio;
-    expectRefusedByName(params, "model_alignment_max_cell_to_spread", "ratio " + std::to_string(ratio));
+    set(params, value);
+    expectRefusedByName(params, field, field + " = " + std::to_string(value));
   }
+}
+
+TEST(SequenceRegistration, ABadLevelRatioIsRefusedByName) {
+  expectEachRefusedByName(
+      {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}, "model_alignment_max_cell_to_spread",
+      [](SequenceRegistrationParameters& p, double ratio) { p.model_alignment_max_cell_to_spread = ratio; });
   SequenceRegistrationParameters every_level;
   every_level.model_alignment_max_cell_to_spread = 0;
   EXPECT_NO_THROW(every_level.validate());
 }
 
 TEST(SequenceRegistration, ABadNumberOfReseatPassesIsRefusedByName) {
-  for (int passes : {0, -1, 11}) {
-    SequenceRegistrationParameters params;
-    params.reseat_passes = passes;
-    expectRefusedByName(params, "reseat_passes", std::to_string(passes) + " passes");
-  }
+  expectEachRefusedByName({0, -1, 11}, "reseat_passes",
+                          [](SequenceRegistrationParameters& p, int passes) { p.reseat_passes = passes; });
   SequenceRegistrationParameters one;
   one.reseat_passes = 1;
   EXPECT_NO_THROW(one.validate());
+}
+
+TEST(SequenceRegistration, ABadUnsettledRoundRuleIsRefusedByName) {
+  expectEachRefusedByName({0.0, -0.001, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()},
+                          "unsettled_pair_move",
+                          [](SequenceRegistrationParameters& p, double move) { p.unsettled_pair_move = move; });
+  expectEachRefusedByName({-1, 11}, "max_unsettled_rounds",
+                          [](SequenceRegistrationParameters& p, int rounds) { p.max_unsettled_rounds = rounds; });
+  SequenceRegistrationParameters none;
+  none.max_unsettled_rounds = 0;
+  EXPECT_NO_THROW(none.validate());
 }
 
 TEST(SequenceRegistration, RecoversPerturbedPosesOfPartialViews) {

@@ -11,6 +11,7 @@
 #include "view_pairs.hpp"
 #include "model_alignment_levels.hpp"
 #include "registration_observability.hpp"
+#include "unsettled_pairs.hpp"
 #include "view_overlap.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -22,6 +23,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 #include <tbb/parallel_for.h>
@@ -202,6 +204,10 @@ void SequenceRegistrationParameters::validate() const {
   if (p.reseat_passes < 1 || p.reseat_passes > 10) throw InputError("reseat_passes", "", "expected 1 to 10 passes");
   if (p.refinement_rounds < 0)
     throw InputError("refinement_rounds", "", "expected 0 (automatic) or a positive number of rounds");
+  if (!(p.unsettled_pair_move > 0) || !std::isfinite(p.unsettled_pair_move))
+    throw InputError("unsettled_pair_move", "", "expected a distance > 0 (metres)");
+  if (p.max_unsettled_rounds < 0 || p.max_unsettled_rounds > 10)
+    throw InputError("max_unsettled_rounds", "", "expected 0 to 10 more rounds");
   if (!(p.model_alignment_max_cell_to_spread >= 0) || !std::isfinite(p.model_alignment_max_cell_to_spread))
     throw InputError("model_alignment_max_cell_to_spread", "", "expected a ratio >= 0 (0: every level)");
 }
@@ -251,6 +257,21 @@ struct SequenceRegistration::Impl {
                           const std::vector<std::uint8_t>& placed, std::vector<PairRegistrationRecord>& pairs,
                           std::vector<Matrix6d>& hessians, std::vector<Matrix6d>& projectors,
                           SequenceRegistrationResult& result) const;
+  /// The next round's pairs when the last one left stale pairs
+  /// (`max_unsettled_rounds`): the last round's `pairs`, those that would
+  /// join views its accepted pairs leave apart (its rejected ones and
+  /// those chosen anew at the graph's `poses`) registered from `poses` (of
+  /// those, `registered`; `accepted_links` accepted as full links; the
+  /// round is worth running only when some are).
+  struct UnsettledRound {
+    std::vector<PairRegistrationRecord> pairs;
+    std::vector<Matrix6d> hessians, projectors;
+    std::size_t registered = 0, accepted_links = 0;
+  };
+  UnsettledRound linkUnsettledGroups(const std::vector<ScanParts>& all, const std::vector<Eigen::Isometry3d>& poses,
+                                     int round, const std::vector<PairRegistrationRecord>& pairs,
+                                     const std::vector<Matrix6d>& hessians,
+                                     const std::vector<Matrix6d>& projectors) const;
   void alignAndPair(std::size_t i);
   void commit(const PointCloud& points, ScanRegistrationRecord record, std::vector<Eigen::Vector3d> reduced_points,
               std::vector<Eigen::Vector3d> reduced_normals, const std::optional<PosePrior>& prior,
@@ -979,10 +1000,7 @@ void SequenceRegistration::Impl::retryBridgingPairs(const std::vector<ScanParts>
                                                     std::vector<PairRegistrationRecord>& pairs,
                                                     std::vector<Matrix6d>& hessians, std::vector<Matrix6d>& projectors,
                                                     SequenceRegistrationResult& result) const {
-  // The views the accepted pairs link, as components.
-  DisjointSets components(poses.size());
-  for (const PairRegistrationRecord& pair : pairs)
-    if (pair.accepted) components.unite(std::uint32_t(pair.from), std::uint32_t(pair.to));
+  DisjointSets components = linkedViews(pairs, poses.size());
   // Only a pair between two components, rejected because the ICP matched
   // too little of it (its views beyond the ICP's reach), is worth the
   // NDT's wider basin. Elsewhere the graph holds the views together
@@ -1004,6 +1022,68 @@ void SequenceRegistration::Impl::retryBridgingPairs(const std::vector<ScanParts>
   });
   result.pairs_retried_coarse += bridging.size();
   for (std::size_t k : bridging) result.pairs_retried_accepted += pairs[k].accepted;
+}
+
+SequenceRegistration::Impl::UnsettledRound SequenceRegistration::Impl::linkUnsettledGroups(
+    const std::vector<ScanParts>& all, const std::vector<Eigen::Isometry3d>& poses, int round,
+    const std::vector<PairRegistrationRecord>& pairs, const std::vector<Matrix6d>& hessians,
+    const std::vector<Matrix6d>& projectors) const {
+  // Every pair of the last round stays, an accepted one with its
+  // measurement (a relative pose does not depend on where the graph put
+  // the views; measured again, a symmetric object's pair may slide). A
+  // pair that would join views no accepted pair links, the last round's
+  // rejected ones and those chosen anew at the graph's poses, is
+  // registered from there.
+  UnsettledRound out{pairs, hessians, projectors};
+  DisjointSets linked = linkedViews(pairs, poses.size());
+  std::vector<std::uint32_t> component(poses.size());
+  for (std::size_t i = 0; i < poses.size(); ++i) component[i] = linked.find(std::uint32_t(i));
+  const auto joins = [&](std::size_t a, std::size_t b) { return component[a] != component[b]; };
+  std::set<std::pair<std::size_t, std::size_t>> present;
+  std::vector<std::size_t> fresh;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    present.insert({pairs[k].from, pairs[k].to});
+    if (!pairs[k].accepted && joins(pairs[k].from, pairs[k].to)) fresh.push_back(k);
+  }
+  for (const auto& [pair, overlap] : choosePairs(reduced, poses, params)) {
+    if (present.count(pair) || !joins(pair.first, pair.second)) continue;
+    PairRegistrationRecord record;
+    record.from = pair.first;
+    record.to = pair.second;
+    record.overlap = overlap;
+    out.pairs.push_back(record);
+    out.hessians.push_back(Matrix6d::Zero());
+    out.projectors.push_back(Matrix6d::Identity());
+    fresh.push_back(out.pairs.size() - 1);
+  }
+  for (PairRegistrationRecord& pair : out.pairs) pair.round = round;
+  tbb::parallel_for(std::size_t{0}, fresh.size(), [&](std::size_t q) {
+    const std::size_t k = fresh[q];
+    PairRegistrationRecord again;
+    again.from = out.pairs[k].from;
+    again.to = out.pairs[k].to;
+    again.overlap = out.pairs[k].overlap;
+    again.round = round;
+    out.hessians[k].setZero();
+    out.projectors[k].setIdentity();
+    // The ICP alone, from the graph's relative pose (the later rounds'
+    // schedule).
+    attemptPair(all, poses, round, false, again, out.hessians[k], out.projectors[k]);
+    out.pairs[k] = again;
+  });
+  // A link with a direction its surface does not fix (a cup's pairs turn
+  // freely about its axis) does not place one group against the other: on
+  // the simulated cups such links were accepted 10-150 mm from the graph's
+  // relative poses and made the views worse.
+  for (std::size_t k : fresh)
+    if (out.pairs[k].accepted && out.pairs[k].degenerate_directions > 0) {
+      out.pairs[k].accepted = false;
+      out.pairs[k].rejection = std::to_string(out.pairs[k].degenerate_directions) +
+                               " directions its surface does not fix: an unsettled round takes only full links";
+    }
+  out.registered = fresh.size();
+  for (std::size_t k : fresh) out.accepted_links += out.pairs[k].accepted;
+  return out;
 }
 
 void SequenceRegistration::Impl::attemptPair(const std::vector<ScanParts>& all,
@@ -1268,15 +1348,29 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     }
   }
   result.stage_times.model_alignment_ms = msSince(alignment_start);
-  const int rounds = params.refinement_rounds > 0 ? params.refinement_rounds
-                     : params.incremental           ? 3
-                                                    : 2;
+  int rounds = params.refinement_rounds > 0 ? params.refinement_rounds
+               : params.incremental           ? 3
+                                              : 2;
+  const int last_allowed_round = params.refinement_rounds > 0 ? rounds : rounds + params.max_unsettled_rounds;
+  std::vector<std::optional<Eigen::Vector3d>> centroids(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!parts[i].ndt_source.empty()) centroids[i] = centroidOf(parts[i].ndt_source);
+  // An unsettled round's pairs (`max_unsettled_rounds`), registered
+  // before the round is run.
+  std::vector<PairRegistrationRecord> unsettled_pairs;
+  std::vector<Matrix6d> unsettled_hessians, unsettled_projectors;
   for (int round = 0; round < rounds; ++round) {
     const auto pairs_start = Clock::now();
     std::vector<PairRegistrationRecord> pairs;
     std::vector<Matrix6d> hessians, projectors;
     if (round == 0 && params.incremental) {
       s.firstRoundPairs(pairs, hessians, projectors);
+    } else if (!unsettled_pairs.empty()) {
+      pairs = std::move(unsettled_pairs);
+      hessians = std::move(unsettled_hessians);
+      projectors = std::move(unsettled_projectors);
+      unsettled_pairs.clear();
+      for (PairRegistrationRecord& pair : pairs) pair.round = round;
     } else {
       const auto chosen = choosePairs(s.reduced, poses, params);
       pairs.reserve(chosen.size());
@@ -1506,9 +1600,28 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       result.odometry_sigma_rotation_rad *= std::sqrt(odometry_factor);
     }
     result.pair_variance_factor = factor;
-    poses.assign(solved.poses.begin(), solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
+    std::vector<Eigen::Isometry3d> graph_poses(solved.poses.begin(),
+                                               solved.poses.begin() + static_cast<std::ptrdiff_t>(n));
+    const bool unsettled = round + 1 == rounds && rounds < last_allowed_round &&
+                           !unsettledPairs(result.pairs, poses, graph_poses, centroids,
+                                           params.min_icp_inlier_fraction, params.unsettled_pair_move)
+                                .empty();
+    poses = std::move(graph_poses);
     result.graph = solved.report;
     result.stage_times.graph_ms += msSince(graph_start);
+    if (unsettled) {
+      const auto unsettled_start = Clock::now();
+      auto next = s.linkUnsettledGroups(parts, poses, round + 1, result.pairs, hessians, projectors);
+      result.unsettled_pairs_registered += next.registered;
+      result.unsettled_pairs_accepted += next.accepted_links;
+      if (next.accepted_links > 0) {
+        ++rounds;
+        unsettled_pairs = std::move(next.pairs);
+        unsettled_hessians = std::move(next.hessians);
+        unsettled_projectors = std::move(next.projectors);
+      }
+      result.stage_times.pairs_ms += msSince(unsettled_start);
+    }
   }
   if (params.reseat_unplaced_views && !params.incremental && n >= 3 && !params.model_alignment_resolutions.empty()) {
     const auto reseat_start = Clock::now();
