@@ -428,6 +428,19 @@ TEST(RealRecordingRegistration, AGroupTheSecondRoundMovedFarIsLinkedByAThird) {
   EXPECT_GE(r.unsettled_pairs_accepted, 1u);
   EXPECT_LT(outcome->default_mm, 1.0);
   EXPECT_GT(outcome->without_mm, outcome->default_mm + 2.0);
+  // A round count given explicitly is kept: no pair is registered for an
+  // unsettled round.
+  const auto given = registerNineViewsFromStarts(
+      kNineViewsSeed8Starts,
+      [](SequenceRegistrationParameters& p) {
+        p.reseat_passes = 1;
+        p.refinement_rounds = 2;
+      },
+      withoutUnsettledRounds);
+  ASSERT_TRUE(given);
+  EXPECT_EQ(given->registration.refinement_rounds, 2);
+  EXPECT_EQ(given->registration.unsettled_pairs_registered, 0u);
+  EXPECT_DOUBLE_EQ(given->default_mm, given->without_mm);
 }
 
 }  // namespace

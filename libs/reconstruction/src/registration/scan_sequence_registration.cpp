@@ -1370,7 +1370,6 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       hessians = std::move(unsettled_hessians);
       projectors = std::move(unsettled_projectors);
       unsettled_pairs.clear();
-      for (PairRegistrationRecord& pair : pairs) pair.round = round;
     } else {
       const auto chosen = choosePairs(s.reduced, poses, params);
       pairs.reserve(chosen.size());
