@@ -49,6 +49,17 @@ Eigen::Vector3d centroidOf(const std::vector<Eigen::Vector3d>& points) {
   return points.empty() ? sum : Eigen::Vector3d(sum / double(points.size()));
 }
 
+// A pair's record before it is registered (a fresh attempt inherits no
+// scores from an earlier one).
+PairRegistrationRecord unregisteredPair(std::size_t from, std::size_t to, double overlap, int round) {
+  PairRegistrationRecord record;
+  record.from = from;
+  record.to = to;
+  record.overlap = overlap;
+  record.round = round;
+  return record;
+}
+
 PointCloud positionsOnly(const std::vector<Eigen::Vector3d>& points) {
   PointCloud cloud;
   cloud.positions = points;
@@ -982,11 +993,7 @@ void SequenceRegistration::Impl::retryPairCoarse(const std::vector<ScanParts>& a
                                                  const std::vector<Eigen::Isometry3d>& poses,
                                                  PairRegistrationRecord& pair, Matrix6d& hessian,
                                                  Matrix6d& projector) const {
-  PairRegistrationRecord again;
-  again.from = pair.from;
-  again.to = pair.to;
-  again.overlap = pair.overlap;
-  again.round = pair.round;
+  PairRegistrationRecord again = unregisteredPair(pair.from, pair.to, pair.overlap, pair.round);
   again.retried_coarse = true;
   hessian.setZero();
   projector.setIdentity();
@@ -1047,11 +1054,7 @@ SequenceRegistration::Impl::UnsettledRound SequenceRegistration::Impl::linkUnset
   }
   for (const auto& [pair, overlap] : choosePairs(reduced, poses, params)) {
     if (present.count(pair) || !joins(pair.first, pair.second)) continue;
-    PairRegistrationRecord record;
-    record.from = pair.first;
-    record.to = pair.second;
-    record.overlap = overlap;
-    out.pairs.push_back(record);
+    out.pairs.push_back(unregisteredPair(pair.first, pair.second, overlap, round));
     out.hessians.push_back(Matrix6d::Zero());
     out.projectors.push_back(Matrix6d::Identity());
     fresh.push_back(out.pairs.size() - 1);
@@ -1059,11 +1062,7 @@ SequenceRegistration::Impl::UnsettledRound SequenceRegistration::Impl::linkUnset
   for (PairRegistrationRecord& pair : out.pairs) pair.round = round;
   tbb::parallel_for(std::size_t{0}, fresh.size(), [&](std::size_t q) {
     const std::size_t k = fresh[q];
-    PairRegistrationRecord again;
-    again.from = out.pairs[k].from;
-    again.to = out.pairs[k].to;
-    again.overlap = out.pairs[k].overlap;
-    again.round = round;
+    PairRegistrationRecord again = unregisteredPair(out.pairs[k].from, out.pairs[k].to, out.pairs[k].overlap, round);
     out.hessians[k].setZero();
     out.projectors[k].setIdentity();
     // The ICP alone, from the graph's relative pose (the later rounds'
@@ -1303,6 +1302,10 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   std::vector<std::uint8_t> placed(n, 0);
   std::vector<Eigen::Isometry3d> reported;  // the robot's poses: the model alignment's limits
   for (const ScanRegistrationRecord& r : s.records) reported.push_back(r.initial_pose);
+  // Each view's points' centroid (none without points): where its moves are measured.
+  std::vector<std::optional<Eigen::Vector3d>> centroids(n);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!parts[i].ndt_source.empty()) centroids[i] = centroidOf(parts[i].ndt_source);
   const auto alignment_start = Clock::now();
   if (n >= 3 && !params.model_alignment_resolutions.empty()) {
     if (params.incremental) {
@@ -1335,8 +1338,8 @@ SequenceRegistrationResult SequenceRegistration::finish() {
     double distance = 0.0;
     std::size_t counted = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      if (parts[i].ndt_source.empty()) continue;
-      const Eigen::Vector3d centroid = centroidOf(parts[i].ndt_source);
+      if (!centroids[i]) continue;
+      const Eigen::Vector3d& centroid = *centroids[i];
       const Eigen::Vector3d move = poses[i] * centroid - reported[i] * centroid;
       for (int c = 0; c < 3; ++c) moves.push_back(std::abs(move(c)));
       distance += centroid.norm();
@@ -1352,35 +1355,24 @@ SequenceRegistrationResult SequenceRegistration::finish() {
                : params.incremental           ? 3
                                               : 2;
   const int last_allowed_round = params.refinement_rounds > 0 ? rounds : rounds + params.max_unsettled_rounds;
-  std::vector<std::optional<Eigen::Vector3d>> centroids(n);
-  for (std::size_t i = 0; i < n; ++i)
-    if (!parts[i].ndt_source.empty()) centroids[i] = centroidOf(parts[i].ndt_source);
   // An unsettled round's pairs (`max_unsettled_rounds`), registered
   // before the round is run.
-  std::vector<PairRegistrationRecord> unsettled_pairs;
-  std::vector<Matrix6d> unsettled_hessians, unsettled_projectors;
+  std::optional<Impl::UnsettledRound> unsettled_round;
   for (int round = 0; round < rounds; ++round) {
     const auto pairs_start = Clock::now();
     std::vector<PairRegistrationRecord> pairs;
     std::vector<Matrix6d> hessians, projectors;
     if (round == 0 && params.incremental) {
       s.firstRoundPairs(pairs, hessians, projectors);
-    } else if (!unsettled_pairs.empty()) {
-      pairs = std::move(unsettled_pairs);
-      hessians = std::move(unsettled_hessians);
-      projectors = std::move(unsettled_projectors);
-      unsettled_pairs.clear();
+    } else if (unsettled_round) {
+      pairs = std::move(unsettled_round->pairs);
+      hessians = std::move(unsettled_round->hessians);
+      projectors = std::move(unsettled_round->projectors);
+      unsettled_round.reset();
     } else {
       const auto chosen = choosePairs(s.reduced, poses, params);
       pairs.reserve(chosen.size());
-      for (const auto& [pair, overlap] : chosen) {
-        PairRegistrationRecord record;
-        record.from = pair.first;
-        record.to = pair.second;
-        record.overlap = overlap;
-        record.round = round;
-        pairs.push_back(record);
-      }
+      for (const auto& [pair, overlap] : chosen) pairs.push_back(unregisteredPair(pair.first, pair.second, overlap, round));
       hessians.assign(pairs.size(), Matrix6d::Zero());
       projectors.assign(pairs.size(), Matrix6d::Identity());
       // Each pair is independent and deterministic: their order of
@@ -1615,9 +1607,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       result.unsettled_pairs_accepted += next.accepted_links;
       if (next.accepted_links > 0) {
         ++rounds;
-        unsettled_pairs = std::move(next.pairs);
-        unsettled_hessians = std::move(next.hessians);
-        unsettled_projectors = std::move(next.projectors);
+        unsettled_round = std::move(next);
       }
       result.stage_times.pairs_ms += msSince(unsettled_start);
     }
