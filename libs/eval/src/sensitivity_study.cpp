@@ -1,5 +1,6 @@
 #include <icrkit/eval/sensitivity_study.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_sampling.hpp>
 
@@ -54,10 +55,6 @@ void validate(const TriangleMesh& cad, const SensitivityParameters& params) {
   params.experiment.validate();
 }
 
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
 }  // namespace
 
 SensitivityResult runSensitivityStudy(const TriangleMesh& cad, const std::string& object,
@@ -94,7 +91,7 @@ SensitivityResult runSensitivityStudy(const TriangleMesh& cad, const std::string
     info.sample_points = noisy.size();
     info.raw_faces = meshes.raw.faceCount();
     info.filtered_faces = meshes.filtered.front().mesh.faceCount();
-    info.build_ms = msSince(start);
+    info.build_ms = millisecondsSince(start);
 
     start = std::chrono::steady_clock::now();
     for (std::size_t r = 0; r < rules; ++r) {
@@ -118,7 +115,7 @@ SensitivityResult runSensitivityStudy(const TriangleMesh& cad, const std::string
       std::vector<GraspRecord> part = experiment.run(local_begin, local_end, staged);
       result.records.insert(result.records.end(), part.begin(), part.end());
     }
-    info.evaluate_ms = msSince(start);
+    info.evaluate_ms = millisecondsSince(start);
     result.levels.push_back(info);
   }
   return result;

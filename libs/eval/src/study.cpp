@@ -1,5 +1,6 @@
 #include <icrkit/eval/study.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 
 #include <algorithm>
@@ -11,10 +12,6 @@ namespace icrkit::eval {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 ProgressCallback prefixed(const ProgressCallback& progress, const std::string& prefix) {
   if (!progress) return {};
@@ -57,7 +54,7 @@ StudyResult runStudy(const std::vector<std::string>& datasets, const ExperimentC
 
     auto start = Clock::now();
     const StudyMeshes meshes = stages.meshes(name, d, prefixed(progress, prefix));
-    info.meshes_ms = msSince(start);
+    info.meshes_ms = millisecondsSince(start);
 
     start = Clock::now();
     const DatasetMeshes view{name, &meshes.cad, &meshes.raw, &meshes.filtered};
@@ -66,12 +63,12 @@ StudyResult runStudy(const std::vector<std::string>& datasets, const ExperimentC
     if (stages.note)
       stages.note(prefix + "evaluating grasps " + std::to_string(local_begin) + ".." + std::to_string(local_end));
     std::vector<GraspRecord> part = experiment->run(local_begin, local_end, prefixed(progress, prefix));
-    info.evaluate_ms = msSince(start);
+    info.evaluate_ms = millisecondsSince(start);
 
     start = Clock::now();
     if (stages.after) stages.after(view, part);
     if (stages.first_shard && local_begin == 0) stages.first_shard(*experiment);
-    info.after_ms = msSince(start);
+    info.after_ms = millisecondsSince(start);
 
     info.cad_vertices = meshes.cad.vertexCount();
     info.raw_vertices = meshes.raw.vertexCount();

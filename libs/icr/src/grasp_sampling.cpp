@@ -1,5 +1,6 @@
 #include <icrkit/icr/grasp_sampling.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 
 #include <Eigen/QR>
@@ -368,7 +369,7 @@ std::vector<SampledGrasp> sampleForceClosureGrasps(const GraspableObject& object
     batch = std::min<std::size_t>(batch * 2, 65536);
   }
 
-  stats.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  stats.time_ms = millisecondsSince(started);
   if (statistics) *statistics = stats;
   return grasps;
 }

@@ -1,3 +1,4 @@
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/icr/independent_contact_regions.hpp>
 #include <icrkit/icr/search_zones.hpp>
@@ -14,7 +15,6 @@ namespace icrkit::icr {
 namespace {
 
 using detail::Clock;
-using detail::millisecondsSince;
 
 // The conservative test's pieces, shared by every vertex of one grasp.
 struct ConservativeTest {

@@ -1,3 +1,4 @@
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/icr/patch_contacts.hpp>
 #include <icrkit/icr/search_zones.hpp>
@@ -19,7 +20,6 @@ namespace icrkit::icr {
 namespace {
 
 using detail::Clock;
-using detail::millisecondsSince;
 
 // Per grasp: the wrenches of each patch point, computed the first time a
 // patch holding the point is tested, with a dense slot per computed point.

@@ -20,8 +20,5 @@ void checkPrototype(const GraspableObject& object, const std::vector<int>& conta
 TaskWrenchSpace taskWrenchSpaceFor(const IcrParameters& params, const GraspWrenchSpace& gws);
 
 using Clock = std::chrono::steady_clock;
-inline double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 }  // namespace icrkit::icr::detail

@@ -1,6 +1,7 @@
 #include "more_thuente_line_search.hpp"
 #include "ndt_voxel_grid.hpp"
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/ndt/ndt_registration.hpp>
 
@@ -384,7 +385,7 @@ NdtResult registerNdt(const PointCloud& source, const NdtTarget& target, const E
   // Re-orthonormalise: many small left-multiplied steps drift by rounding.
   pose.linear() = Eigen::Quaterniond(pose.rotation()).normalized().toRotationMatrix();
   result.pose = pose;
-  result.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  result.time_ms = millisecondsSince(start);
   return result;
 }
 

@@ -1,3 +1,4 @@
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/radius_cells.hpp>
@@ -277,7 +278,7 @@ SmoothingReport smoothPointCloud(PointCloud& cloud, const SmoothingParameters& p
   else
     cloud.attributes.add("excluded", ScalarType::UInt8,
                          std::vector<double>(chosen.excluded.begin(), chosen.excluded.end()));
-  summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  summary.time_ms = millisecondsSince(start);
   return summary;
 }
 

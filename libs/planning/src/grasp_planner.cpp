@@ -1,5 +1,6 @@
 #include <icrkit/planning/grasp_planner.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/icr/grasp_sampling.hpp>
 #include <icrkit/icr/wrench.hpp>
@@ -18,9 +19,6 @@ namespace icrkit::planning {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // splitmix64: one independent stream per (seed, finger count, candidate),
 // so a candidate's contacts never depend on which thread drew it.
@@ -136,7 +134,7 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
     if (trusted.eligible(v)) eligible.push_back(static_cast<int>(v));
   const std::optional<double> min_area = params.min_region_area_m2;
   const PlacementScorer scorer(trusted, params.placement);
-  report.trust_ms = msSince(phase);
+  report.trust_ms = millisecondsSince(phase);
 
   const icr::ContactWrenches generator(params.regions.contact_model, object.frame());
   const auto per_contact = static_cast<Eigen::Index>(generator.perContact());
@@ -206,7 +204,7 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
         std::min(order.size(), params.hulls ? *params.hulls : std::max<std::size_t>(20 * params.top, 64));
     order.resize(hulls);
     fc.drawn = candidates.size();
-    report.screening_ms += msSince(phase);
+    report.screening_ms += millisecondsSince(phase);
 
     // 2. Hulls, the task, regions and scores of the most promising.
     phase = Clock::now();
@@ -259,7 +257,7 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
       ++fc.with_regions;
       scored.push_back(std::move(s.grasp));
     }
-    report.regions_ms += msSince(phase);
+    report.regions_ms += millisecondsSince(phase);
     report.finger_counts.push_back(fc);
     done += params.candidates;
     if (progress) progress("candidates", done, total);
@@ -320,12 +318,12 @@ PlanResult planGrasps(const icr::GraspableObject& object, const PlanningParamete
     scored = std::move(patched);
     std::sort(scored.begin(), scored.end(), better);
     result.patch = params.patch;
-    report.regions_ms += msSince(phase);
+    report.regions_ms += millisecondsSince(phase);
   }
   if (scored.size() > params.top) scored.resize(params.top);
   for (std::size_t r = 0; r < scored.size(); ++r) scored[r].rank = r + 1;
   result.grasps = std::move(scored);
-  report.total_ms = msSince(start);
+  report.total_ms = millisecondsSince(start);
   return result;
 }
 

@@ -1,3 +1,5 @@
+#include <icrkit/core/elapsed.hpp>
+#include <icrkit/core/progress.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 #include <icrkit/reconstruction/reconstructor.hpp>
 
@@ -17,15 +19,6 @@ namespace icrkit::reconstruction {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-
-void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
-  if (progress) progress(stage, done, total);
-}
 
 }  // namespace
 
@@ -99,10 +92,10 @@ ReconstructionResult reconstructRawlog(const std::string& rawlog, const Reconstr
   for (;;) {
     const auto start = Clock::now();
     std::optional<RangeScan> scan = reader.next();
-    read_ms += msSince(start);
+    read_ms += millisecondsSince(start);
     if (!scan) break;
     reconstructor.add(std::move(*scan));
-    report(progress, "poses", reconstructor.scanCount(), 0);
+    reportProgress(progress, "poses", reconstructor.scanCount(), 0);
   }
   reconstructor.setInputDescription(reader.poseMatching(), reader.depthCamera());
   ReconstructionResult result = reconstructor.takeResult(progress);

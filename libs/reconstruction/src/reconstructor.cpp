@@ -1,8 +1,10 @@
 #include <icrkit/reconstruction/reconstructor.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/morton_order.hpp>
+#include <icrkit/core/progress.hpp>
 #include <icrkit/reconstruction/input/up_axis.hpp>
 #include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 
@@ -21,14 +23,6 @@ namespace icrkit::reconstruction {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
-  if (progress) progress(stage, done, total);
-}
 
 // One scan as kept between add() and update(): its filtered range image and
 // points. MRPT unprojects in single precision, so the points are kept as
@@ -149,7 +143,7 @@ struct Reconstructor::Impl {
     if (params.board) {
       const auto start = Clock::now();
       stored.board_pose = latticeCameraPose(scan, *params.board, params.board_detection);
-      add_board_ms += msSince(start);
+      add_board_ms += millisecondsSince(start);
     }
     const auto start = Clock::now();
     ScanFilterRecord& record = stored.sensor_filters;
@@ -161,7 +155,7 @@ struct Reconstructor::Impl {
     if (params.jump_edge_filter && organised) record.removed_jump_edges = filterJumpEdges(scan, params.jump_edges).removed;
     if (organised) record.removed_foreground_edges = filterForegroundEdges(scan, params.foreground_edges).removed;
     record.removed_range = filterRange(scan, params.range).removed;
-    add_filter_ms += msSince(start);
+    add_filter_ms += millisecondsSince(start);
     poses_orthonormalised += scan.pose_orthonormalised;
     // Only the range image, the points and their pixels are used from here on.
     scan.intensity = Image8{};
@@ -252,7 +246,7 @@ void Reconstructor::Impl::advance() {
     auto start = Clock::now();
     const RangeScan scan = scans[i].restore();
     SelectedScan selected = select(scans[i], scan, *live_box, live_up);
-    live_filter_ms += msSince(start);
+    live_filter_ms += millisecondsSince(start);
     if (selected.record.object_points == 0) {
       live_error = InputError(source, where(i),
                               "no points left inside the crop box after filtering (check the crop box and the poses)");
@@ -272,7 +266,7 @@ void Reconstructor::Impl::advance() {
         live_error = e;
         return;
       }
-      live_registration_ms += msSince(start);
+      live_registration_ms += millisecondsSince(start);
     }
     live_scans.push_back(std::move(selected));
   }
@@ -314,7 +308,7 @@ void Reconstructor::addDepthImage(const DepthImageView& image, const DepthImageM
   DepthImageMeta unprojected = meta;
   unprojected.unproject = true;
   RangeScan scan = scanFromDepthImage(image, unprojected, impl_->scans.size(), impl_->source);
-  impl_->store(std::move(scan), true, msSince(start));
+  impl_->store(std::move(scan), true, millisecondsSince(start));
 }
 
 void Reconstructor::addPoints(const std::vector<Eigen::Vector3d>& points, const PointScanMeta& meta) {
@@ -349,7 +343,7 @@ void Reconstructor::addPoints(const std::vector<Eigen::Vector3d>& points, const 
   scan.camera.width = scan.width;
   scan.camera.height = 1;
   scan.camera_intensity = scan.camera;
-  impl_->store(std::move(scan), false, msSince(start));
+  impl_->store(std::move(scan), false, millisecondsSince(start));
 }
 
 std::size_t Reconstructor::scanCount() const { return impl_->scans.size(); }
@@ -457,12 +451,12 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
       if (params.keep_registration_input)
         result.registration_input.push_back(objectPointsInSensorFrame(scans[i].restore(), selected.object));
     }
-    report(progress, "registration", n, n);
+    reportProgress(progress, "registration", n, n);
     if (live) {
       const auto start = Clock::now();
       result.registration = live->finish();
       result.poses = result.registration.poses;
-      times.registration_ms += msSince(start);
+      times.registration_ms += millisecondsSince(start);
     } else {
       result.poses = result.reported_poses;
     }
@@ -476,7 +470,7 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
       SelectedScan selected = select(stored, scan, result.crop_box, result.up);
       record(selected);
       objects[i] = std::move(selected.object);
-      times.filter_ms += msSince(start);
+      times.filter_ms += millisecondsSince(start);
       if (result.filters.back().object_points == 0)
         throw InputError(source, where(i),
                          "no points left inside the crop box after filtering (check the crop box and the poses)");
@@ -491,16 +485,16 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
         PointCloud points = objectPointsInSensorFrame(scan, objects[i]);
         registration->add(points, scan.sensor_pose, selected.board_prior);
         if (params.keep_registration_input) result.registration_input.push_back(std::move(points));
-        times.registration_ms += msSince(start);
+        times.registration_ms += millisecondsSince(start);
       }
-      report(progress, "registration", i + 1, n);
+      reportProgress(progress, "registration", i + 1, n);
     }
     if (registration) {
       const auto start = Clock::now();
       result.registration = registration->finish();
       registration.reset();
       result.poses = result.registration.poses;
-      times.registration_ms += msSince(start);
+      times.registration_ms += millisecondsSince(start);
     } else {
       result.poses = result.reported_poses;
     }
@@ -530,8 +524,8 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
         placed[i - first] = std::move(scan);
       });
       fusion.insert(placed, masks);
-      times.fusion_ms += msSince(start);
-      report(progress, "fusion", last, n);
+      times.fusion_ms += millisecondsSince(start);
+      reportProgress(progress, "fusion", last, n);
     }
     const auto start = Clock::now();
     OctreeFusionResult fused = fusion.finish();
@@ -541,7 +535,7 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     // each radius query on 36 views (docs/performance.md, stop 45).
     const std::vector<std::uint32_t> order = mortonOrder(fused.points.positions);
     fused.points.select(std::vector<std::size_t>(order.begin(), order.end()));
-    times.fusion_ms += msSince(start);
+    times.fusion_ms += millisecondsSince(start);
     result.cloud = std::move(fused.points);
     result.fusion = fused.report;
   }
@@ -554,7 +548,7 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
   const std::vector<Eigen::Vector3d> viewpoints = fusionViewpoints(result.cloud);
   {
     const auto start = Clock::now();
-    report(progress, "normals", 0, 1);
+    reportProgress(progress, "normals", 0, 1);
     ndt::NormalEstimationParameters normals = params.normals;
     // Like the smoothing window: a multiple of one scan's spacing. The fused
     // cloud's own spacing is many times finer (every view adds points) while
@@ -565,7 +559,7 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
       normals.radius = Length::metres(normals.radius.metresFor(result.scan_spacing_m));
     normals.viewpoints = viewpoints;
     result.normals = ndt::estimateNormals(result.cloud, normals);
-    times.normals_ms = msSince(start);
+    times.normals_ms = millisecondsSince(start);
   }
   if (params.make_meshes) {
     RawAndFilteredParameters meshing;
@@ -588,7 +582,7 @@ ReconstructionResult Reconstructor::Impl::compute(const ProgressCallback& progre
     times.smoothing_ms = meshes.times.smoothing_ms;
     times.filtered_mesh_ms = meshes.times.filtered_mesh_ms;
   }
-  times.total_ms = add_read_ms + add_filter_ms + add_board_ms + msSince(total_start);
+  times.total_ms = add_read_ms + add_filter_ms + add_board_ms + millisecondsSince(total_start);
   return result;
 }
 

@@ -1,6 +1,7 @@
 #include <icrkit/sim/dataset.hpp>
 
 #include <icrkit/core/atomic_file.hpp>
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/geometry_io.hpp>
 #include <icrkit/core/pose.hpp>
@@ -223,7 +224,7 @@ SimulationReport simulateDataset(const DatasetSpec& spec, const std::string& dir
       throw InputError(directory, "", "cannot move the finished recording into place");
     }
     summary.directory = target.string();
-    summary.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    summary.time_ms = millisecondsSince(start);
     return summary;
   } catch (...) {
     fs::remove_all(staging, error);

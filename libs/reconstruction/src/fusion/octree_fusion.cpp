@@ -4,6 +4,7 @@
 
 #include <icrkit/reconstruction/fusion/octree_fusion.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 
 #include "key_bitmap.hpp"
@@ -216,7 +217,7 @@ void OctreeFusion::insert(const RangeScan& scan, const std::vector<std::uint8_t>
   impl_->refuseIfBroken("insert");
   const auto start = std::chrono::steady_clock::now();
   impl_->guarded([&] { impl_->apply(scan, candidate, traceScan(impl_->tree, impl_->params, scan)); });
-  impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  impl_->time_ms += millisecondsSince(start);
 }
 
 void OctreeFusion::insert(const std::vector<RangeScan>& scans, const std::vector<std::vector<std::uint8_t>>& candidates) {
@@ -251,7 +252,7 @@ void OctreeFusion::insert(const std::vector<RangeScan>& scans, const std::vector
                                tbb::make_filter<std::size_t, Traced>(tbb::filter_mode::parallel, trace) &
                                tbb::make_filter<Traced, void>(tbb::filter_mode::serial_in_order, apply));
   });
-  impl_->time_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  impl_->time_ms += millisecondsSince(start);
 }
 
 OctreeFusionResult OctreeFusion::finish() {
@@ -318,7 +319,7 @@ OctreeFusionResult OctreeFusion::finish() {
   s.pixels = {};
   s.origins = {};
   s.tree.clear();
-  report.time_ms = s.time_ms + std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  report.time_ms = s.time_ms + millisecondsSince(start);
   return result;
 }
 

@@ -1,6 +1,7 @@
 #include <icrkit/reconstruction/meshing/ball_pivoting.hpp>
 
 #include <icrkit/core/disjoint_sets.hpp>
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
@@ -155,7 +156,7 @@ public:
         }
       }
       pass.triangles = faces_.size() - faces_before;
-      pass.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      pass.time_ms = millisecondsSince(start);
       report.passes.push_back(pass);
     }
   }
@@ -741,7 +742,6 @@ private:
         if (edges_[item.edge].faceCount() == 1) apply(item.i, item.j, item.k);
     }
   }
-
 
   std::vector<std::uint32_t> order_;
   std::vector<Vector3d> p_, normals_;

@@ -1,4 +1,6 @@
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
+#include <icrkit/core/progress.hpp>
 #include <icrkit/reconstruction/meshing/raw_and_filtered_meshes.hpp>
 
 #include <chrono>
@@ -7,13 +9,6 @@ namespace icrkit::reconstruction {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-void report(const ProgressCallback& progress, const char* stage, std::size_t done, std::size_t total) {
-  if (progress) progress(stage, done, total);
-}
 
 }  // namespace
 
@@ -24,7 +19,7 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
   RawAndFilteredMeshes out;
   auto start = Clock::now();
   if (params.make_raw) {
-    report(progress, "raw mesh", 0, 1);
+    reportProgress(progress, "raw mesh", 0, 1);
     BallPivotingParameters raw_meshing = params.meshing;
     if (!params.thin_raw_cloud) {
       raw_meshing.thinning_factor = 0.0;
@@ -33,7 +28,7 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
     BallPivotingResult raw = ballPivoting(cloud, raw_meshing);
     out.raw = std::move(raw.mesh);
     out.raw_meshing = raw.report;
-    out.times.raw_mesh_ms = msSince(start);
+    out.times.raw_mesh_ms = millisecondsSince(start);
   }
 
   start = Clock::now();
@@ -49,7 +44,7 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
     smoothing.viewpoint.reset();  // it would take precedence over them
   }
   out.smoothing = ndt::smoothPointCloud(smoothed, smoothing, [&](const std::string&, std::size_t d, std::size_t t) {
-    report(progress, "smoothing", d, t);
+    reportProgress(progress, "smoothing", d, t);
   });
   if (params.mesh_kept_points_only && smoothed.attributes.has("excluded")) {
     std::vector<std::size_t> kept;
@@ -59,16 +54,16 @@ RawAndFilteredMeshes meshRawAndFiltered(const PointCloud& cloud, const RawAndFil
     out.dropped_excluded = smoothed.size() - kept.size();
     smoothed.select(kept);
   }
-  out.times.smoothing_ms = msSince(start);
+  out.times.smoothing_ms = millisecondsSince(start);
 
   start = Clock::now();
-  report(progress, "filtered mesh", 0, 1);
+  reportProgress(progress, "filtered mesh", 0, 1);
   if (smoothed.size() < 3)
     throw InputError("point cloud", "", "fewer than 3 points are left to mesh after the preselection");
   BallPivotingResult filtered = ballPivoting(smoothed, params.meshing);
   out.filtered = std::move(filtered.mesh);
   out.filtered_meshing = filtered.report;
-  out.times.filtered_mesh_ms = msSince(start);
+  out.times.filtered_mesh_ms = millisecondsSince(start);
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include <icrkit/reconstruction/registration/pose_graph.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 
 #include "cholmod_solver.hpp"
@@ -470,7 +471,7 @@ PoseGraphResult optimisePoseGraph(const PoseGraph& graph, const PoseGraphParamet
   }
   report.final_chi2 = cost.chi2;
   report.final_cost = cost.robust;
-  report.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  report.time_ms = millisecondsSince(start);
   return result;
 }
 

@@ -1,6 +1,7 @@
 #include <icrkit/reconstruction/registration/scan_sequence_registration.hpp>
 
 #include <icrkit/core/disjoint_sets.hpp>
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/ndt/normal_estimation.hpp>
@@ -33,10 +34,6 @@ namespace icrkit::reconstruction {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 double rotationAngle(const Eigen::Isometry3d& t) { return Eigen::AngleAxisd(t.rotation()).angle(); }
 
@@ -476,14 +473,14 @@ void SequenceRegistration::Impl::commit(const PointCloud& points, ScanRegistrati
   }
   s.reduced.push_back(std::move(reduced_points));
   s.normals.push_back(std::move(reduced_normals));
-  record.time_ms = msSince(start);
+  record.time_ms = millisecondsSince(start);
   s.time_ms += record.time_ms;
   s.priors.push_back(prior);
   s.records.push_back(std::move(record));
   if (s.params.incremental) {
     const auto aligning = Clock::now();
     s.alignAndPair(index);
-    const double ms = msSince(aligning);
+    const double ms = millisecondsSince(aligning);
     s.records.back().time_ms += ms;
     s.time_ms += ms;
   }
@@ -1295,7 +1292,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   }
   const SequenceRegistrationParameters& params = chosen;
   result.model_alignment_resolutions = params.model_alignment_resolutions;
-  result.stage_times.prepare_ms = msSince(start);
+  result.stage_times.prepare_ms = millisecondsSince(start);
   double alignment_sigma_t = 0.0, alignment_sigma_r = 0.0;  // per view, robust, from the model alignment
   if (params.incremental && !params.model_alignment_resolutions.empty()) poses = s.aligned;
   // Views the model alignment's last level placed (the batch path only).
@@ -1350,7 +1347,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       alignment_sigma_r = alignment_sigma_t / (distance / double(counted));
     }
   }
-  result.stage_times.model_alignment_ms = msSince(alignment_start);
+  result.stage_times.model_alignment_ms = millisecondsSince(alignment_start);
   int rounds = params.refinement_rounds > 0 ? params.refinement_rounds
                : params.incremental           ? 3
                                               : 2;
@@ -1384,7 +1381,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       if (round == 0 && params.pair_ndt_retry_rejected && !params.pair_ndt_for_placed_views)
         s.retryBridgingPairs(parts, poses, placed, pairs, hessians, projectors, result);
     }
-    result.stage_times.pairs_ms += msSince(pairs_start);
+    result.stage_times.pairs_ms += millisecondsSince(pairs_start);
     const auto graph_start = Clock::now();
 
     // How good the robot's own relative motions and poses are, measured by
@@ -1599,7 +1596,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
                                 .empty();
     poses = std::move(graph_poses);
     result.graph = solved.report;
-    result.stage_times.graph_ms += msSince(graph_start);
+    result.stage_times.graph_ms += millisecondsSince(graph_start);
     if (unsettled) {
       const auto unsettled_start = Clock::now();
       auto next = s.linkUnsettledGroups(parts, poses, round + 1, result.pairs, hessians, projectors);
@@ -1609,13 +1606,13 @@ SequenceRegistrationResult SequenceRegistration::finish() {
         ++rounds;
         unsettled_round = std::move(next);
       }
-      result.stage_times.pairs_ms += msSince(unsettled_start);
+      result.stage_times.pairs_ms += millisecondsSince(unsettled_start);
     }
   }
   if (params.reseat_unplaced_views && !params.incremental && n >= 3 && !params.model_alignment_resolutions.empty()) {
     const auto reseat_start = Clock::now();
     reseatViews(params, reported, s.reduced, s.normals, parts, placed, poses, result);
-    result.stage_times.model_alignment_ms += msSince(reseat_start);
+    result.stage_times.model_alignment_ms += millisecondsSince(reseat_start);
   }
   const auto joint_start = Clock::now();
   if (params.joint_refinement && n >= 2) {
@@ -1680,7 +1677,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
       result.joint_applied = true;
     }
   }
-  result.stage_times.joint_ms = msSince(joint_start);
+  result.stage_times.joint_ms = millisecondsSince(joint_start);
   result.poses = poses;
 
   const bool try_loop = params.loop_closure && n >= 3;
@@ -1705,7 +1702,7 @@ SequenceRegistrationResult SequenceRegistration::finish() {
   result.model_points = s.model.size();
   result.resolutions = params.ndt.resolutions;
   result.first_scan_spacing_m = s.first_spacing;
-  result.time_ms = s.time_ms + msSince(start);
+  result.time_ms = s.time_ms + millisecondsSince(start);
   if (!params.incremental) {
     s.reduced = {};
     s.normals = {};

@@ -14,4 +14,10 @@ namespace icrkit {
 /// May be called from several threads; implementations must be thread-safe.
 using ProgressCallback = std::function<void(const std::string& stage, std::size_t done, std::size_t total)>;
 
+/// Reports to `progress` when one is given (an empty callback is silence).
+inline void reportProgress(const ProgressCallback& progress, const std::string& stage, std::size_t done,
+                           std::size_t total) {
+  if (progress) progress(stage, done, total);
+}
+
 }  // namespace icrkit
