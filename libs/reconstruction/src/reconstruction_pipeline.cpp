@@ -1,10 +1,10 @@
-#include <icrkit/core/elapsed.hpp>
-#include <icrkit/core/progress.hpp>
 #include <icrkit/reconstruction/reconstruction_pipeline.hpp>
 #include <icrkit/reconstruction/reconstructor.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
+#include <icrkit/core/progress.hpp>
 #include <icrkit/reconstruction/input/scan_source.hpp>
 
 #include <Eigen/Eigenvalues>
