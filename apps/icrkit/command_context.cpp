@@ -1,6 +1,7 @@
 #include "command_context.hpp"
 
 #include <icrkit/core/atomic_file.hpp>
+#include <icrkit/core/elapsed.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -52,7 +53,7 @@ void CommandContext::note(const std::string& message) const {
 }
 
 double CommandContext::elapsedMs() const {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  return millisecondsSince(start_);
 }
 
 void CommandContext::emit(const nlohmann::json& summary) {

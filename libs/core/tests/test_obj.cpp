@@ -1,3 +1,4 @@
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/obj.hpp>
 
@@ -282,7 +283,7 @@ TEST(ObjSharedData, ParseTimeOfTheLargestModel) {
   if (!readFile(path, bytes)) GTEST_SKIP() << "shared data file missing: " << path;
   const auto start = std::chrono::steady_clock::now();
   const TriangleMesh mesh = parseObj(bytes, path);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = millisecondsSince(start);
   RecordProperty("parse_ms", std::to_string(ms));
   std::cout << "beer_can.obj (" << bytes.size() << " bytes) parsed in " << ms << " ms\n";
   EXPECT_EQ(mesh.vertexCount(), 6658u);

@@ -1,3 +1,4 @@
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/io/pcd.hpp>
 
@@ -458,7 +459,7 @@ TEST(PcdSharedData, TableSceneDropsInvalidPixels) {
   if (!readFile(path, bytes)) GTEST_SKIP() << "shared data file missing: " << path;
   const auto start = std::chrono::steady_clock::now();
   const PointCloud cloud = parsePcd(bytes, path);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = millisecondsSince(start);
   std::cout << "table_scene_mug_stereo_textured.pcd: " << cloud.size() << " finite of 307200 points, parsed in "
             << ms << " ms\n";
   // Counted independently (decompressing in Python): 98,080 pixels are NaN.

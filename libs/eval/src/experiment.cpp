@@ -1,5 +1,6 @@
 #include <icrkit/eval/experiment.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/kd_tree.hpp>
 #include <icrkit/core/mesh_topology.hpp>
@@ -595,7 +596,7 @@ PlannedGraspStudy DatasetExperiment::plannedGrasps(planning::PlanningParameters 
       return s;
     }
     if (keep_first > 0) keepFirstDrawn(plan, keep_first);
-    s.plan_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    s.plan_ms = millisecondsSince(start);
     PlannedMeshStudy executed = executePlanOnCad(plan, scan, to_cad, impl_->cad_object, impl_->model, execution);
     executed.mesh = s.mesh;
     executed.plan_ms = s.plan_ms;

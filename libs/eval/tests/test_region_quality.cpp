@@ -2,6 +2,7 @@
 
 #include <icrkit/eval/region_quality.hpp>
 
+#include <icrkit/core/elapsed.hpp>
 #include <icrkit/core/error.hpp>
 #include <icrkit/core/mesh_primitives.hpp>
 
@@ -381,8 +382,7 @@ TEST(RegionQuality, LargeRegionsOnALargeMeshAreCheap) {
   for (const auto paths : {GeodesicPaths::Edges, GeodesicPaths::EdgesAndUnfoldedDiagonals}) {
     const auto built = std::chrono::steady_clock::now();
     const RegionQualityEvaluator evaluator(mesh, {DistanceMetric::Geodesic, paths});
-    const double build_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - built).count();
+    const double build_ms = millisecondsSince(built);
     const std::vector<RegionPair> pairs = randomRegionPairs(evaluator.graph(), 40, 0.04, 0.07, 11);
     DistanceWorkspace ws;
     std::size_t vertices = 0, evaluations = 0, centre_searches = 0;
@@ -395,7 +395,7 @@ TEST(RegionQuality, LargeRegionsOnALargeMeshAreCheap) {
       evaluations += cad.center.evaluations;
       ++centre_searches;
     }
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double ms = millisecondsSince(start);
     std::cout << "[ cost ] " << (paths == GeodesicPaths::Edges ? "edges" : "unfolded") << ": graph " << build_ms
               << " ms; " << pairs.size() << " region pairs, mean " << vertices / (2 * pairs.size())
               << " vertices per region: " << ms / pairs.size() << " ms per pair, "
@@ -434,7 +434,7 @@ TEST(RegionQuality, BandsAroundATubeStayExactAndAffordable) {
       for (int a = 0; a < span; ++a) band.push_back(r * 120 + a);
     const auto start = std::chrono::steady_clock::now();
     const CentralPoint c = centralPoint(graph, band, DistanceMetric::Geodesic, ws);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double ms = millisecondsSince(start);
     std::cout << "[ cost ] tube band " << span << "/120 around, " << band.size() << " vertices: " << c.evaluations
               << " Dijkstras, " << ms << " ms\n";
     EXPECT_LT(c.evaluations, band.size() / 5);
